@@ -1,0 +1,46 @@
+// A scene: several named objects whose vertices, triangles and edges are
+// concatenated into global arrays for the pipeline. Global ids map back to
+// (object, local id) for reports.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "libcd/scene/object.hpp"
+
+namespace snag {
+
+class Scene {
+ public:
+  Scene() = default;
+  explicit Scene(std::vector<Object> objects);
+
+  const std::vector<Object>& objects() const { return objects_; }
+  std::size_t vertex_count() const { return vertex_offset_.back(); }
+  std::size_t triangle_count() const { return triangles_.size(); }
+  std::size_t edge_count() const { return edges_.size(); }
+
+  /// Global triangles (#F by 3 global vertex ids), objects in order.
+  const std::vector<Triangle>& triangles() const { return triangles_; }
+  /// Global unique edges (#E by 2 global vertex ids), objects in order.
+  const std::vector<Edge>& edges() const { return edges_; }
+
+  /// First global vertex / triangle / edge id of object `o`; index objects().size() gives the totals.
+  Index vertex_offset(std::size_t o) const { return vertex_offset_[o]; }
+  Index triangle_offset(std::size_t o) const { return triangle_offset_[o]; }
+  Index edge_offset(std::size_t o) const { return edge_offset_[o]; }
+
+  /// The object that holds a global vertex / triangle / edge id.
+  std::size_t object_of_vertex(Index v) const;
+  std::size_t object_of_triangle(Index f) const;
+  std::size_t object_of_edge(Index e) const;
+
+ private:
+  std::vector<Object> objects_;
+  std::vector<Triangle> triangles_;
+  std::vector<Edge> edges_;
+  std::vector<Index> vertex_offset_{0}, triangle_offset_{0}, edge_offset_{0};
+};
+
+}  // namespace snag
