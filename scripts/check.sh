@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Installs what is needed, builds snag with its tests, runs each fuzzer briefly,
+# and runs the whole test suite through ctest (GPU tests skip without a GPU).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+if [ -x scripts/run-fuzzers.sh ]; then
+  bash scripts/run-fuzzers.sh
+fi
+bash scripts/build.sh -DSNAG_BUILD_TESTS=ON
+ctest --test-dir build --output-on-failure --parallel "$(nproc)" --timeout 900
