@@ -49,7 +49,8 @@ struct ObjectPart {
 };
 
 /// The mesh nodes of a scene as objects, depth first, with unique names.
-/// Checks each mesh: triangles only, some vertices, bone names resolvable.
+/// Checks each mesh: triangles only, some vertices, finite positions, bone
+/// names resolvable.
 std::vector<ObjectPart> object_parts(const std::string& path, const aiScene& scene,
                                      const AnimationEvaluator& evaluator) {
   std::vector<ObjectPart> parts;
@@ -73,6 +74,15 @@ std::vector<ObjectPart> object_parts(const std::string& path, const aiScene& sce
         for (unsigned c = 0; c < 3; ++c)
           if (face.mIndices[c] >= mesh.mNumVertices)
             fail(path, what + ": face " + std::to_string(f) + " uses a vertex out of range");
+      }
+      auto finite = [](const aiVector3D& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+      for (unsigned v = 0; v < mesh.mNumVertices; ++v)
+        if (!finite(mesh.mVertices[v])) fail(path, what + ": vertex " + std::to_string(v) + " is not finite (NaN or infinity)");
+      for (unsigned k = 0; k < mesh.mNumAnimMeshes; ++k) {
+        const aiAnimMesh& target = *mesh.mAnimMeshes[k];
+        for (unsigned v = 0; target.mVertices && v < target.mNumVertices; ++v)
+          if (!finite(target.mVertices[v]))
+            fail(path, what + ": morph target " + std::to_string(k) + " vertex " + std::to_string(v) + " is not finite");
       }
       for (unsigned b = 0; b < mesh.mNumBones; ++b)
         if (evaluator.node_index(mesh.mBones[b]->mName.C_Str()) < 0)
