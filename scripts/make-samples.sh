@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Rebakes the bundled samples with Blender (headless) into samples/ and the
+# Blender-exported animated test files into tests/io_assimp/data/.
+#   scripts/make-samples.sh
+# Needs `blender` 3.4 on PATH (or BLENDER=...) and, for its glTF and FBX
+# exporters, numpy for Blender's Python (Debian: python3-numpy).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+blender="${BLENDER:-blender}"
+"$blender" -b --factory-startup --python "$root/samples/bake_cloth.py" -- "$root/samples/cloth_ball"
+"$blender" -b --factory-startup --python "$root/tests/io_assimp/export_rig.py" -- "$root/tests/io_assimp/data"
