@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iostream>
+#include <random>
 #include <set>
 #include <string>
 #include <utility>
@@ -27,12 +28,15 @@ struct FaceData {
   std::array<Index, 3> ids;
 };
 
-void check_against_self_intersections(const std::string& relative_path) {
+Mesh read_mesh(const std::string& relative_path) {
   const std::string path = std::string(SNAG_SHARED_DATA_DIR) + "/meshes/" + relative_path;
   std::ifstream in(path, std::ios::binary);
-  ASSERT_TRUE(in) << path;
   Mesh mesh;
-  ASSERT_TRUE(CGAL::IO::read_PLY(in, mesh)) << path;
+  EXPECT_TRUE(in && CGAL::IO::read_PLY(in, mesh)) << path;
+  return mesh;
+}
+
+void check_against_self_intersections(const Mesh& mesh, const std::string& name) {
   ASSERT_GT(mesh.number_of_faces(), 0u);
 
   std::vector<std::pair<Face, Face>> cgal_pairs;
@@ -81,9 +85,13 @@ void check_against_self_intersections(const std::string& relative_path) {
         found.insert({i, j});
     }
   }
-  std::cout << relative_path << ": " << faces.size() << " faces, " << expected.size()
+  std::cout << name << ": " << faces.size() << " faces, " << expected.size()
             << " intersecting pairs from CGAL, " << found.size() << " found\n";
   EXPECT_EQ(found, expected);
+}
+
+void check_against_self_intersections(const std::string& relative_path) {
+  check_against_self_intersections(read_mesh(relative_path), relative_path);
 }
 
 TEST(ExactTriangleIntersection, MatchesSelfIntersectionsOnBunny) { check_against_self_intersections("bunny.ply"); }
@@ -94,6 +102,28 @@ TEST(ExactTriangleIntersection, MatchesSelfIntersectionsOnIntersectingCubes) {
 
 TEST(ExactTriangleIntersection, MatchesSelfIntersectionsOnThickCloth) {
   check_against_self_intersections("thick-cloth/t0.ply");
+}
+
+TEST(ExactTriangleIntersection, MatchesSelfIntersectionsOnFoldedCloth) {
+  // Vertices of the cloth moved onto other vertices' positions (so neighbours
+  // fold over shared edges and vertices, often coplanar) or thrown off
+  // through the cloth.
+  const Mesh original = read_mesh("thick-cloth/t0.ply");
+  std::mt19937 rng(2024);
+  std::uniform_int_distribution<std::size_t> vertex(0, original.number_of_vertices() - 1);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (int trial = 0; trial < 6; ++trial) {
+    Mesh mesh = original;
+    for (int k = 0; k < 12; ++k) {
+      const auto moved = Mesh::Vertex_index(static_cast<Mesh::size_type>(vertex(rng)));
+      const auto target = mesh.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(vertex(rng))));
+      if (trial % 2 == 0)
+        mesh.point(moved) = target;
+      else
+        mesh.point(moved) = Kernel::Point_3(target.x() + unit(rng), target.y() + unit(rng), target.z() + unit(rng));
+    }
+    check_against_self_intersections(mesh, "folded cloth " + std::to_string(trial));
+  }
 }
 
 TEST(ExactTriangleIntersection, IgnoresSharedEdgeUnlessFacesFoldOntoEachOther) {
