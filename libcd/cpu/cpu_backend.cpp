@@ -1,0 +1,250 @@
+// The CPU back end: the virtual subdivision grid broad phase, then the
+// conservative floating-point CCD filter and the exact-sign static test on all
+// cores, then exact certification of the answers the filter left uncertain.
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "libcd/core/error.hpp"
+#include "libcd/narrow_phase/edge_edge_ccd.hpp"
+#include "libcd/narrow_phase/triangle_triangle.hpp"
+#include "libcd/narrow_phase/vertex_face_ccd.hpp"
+#include "libcd/pipeline/backend.hpp"
+#include "libcd/pipeline/event_position.hpp"
+
+namespace snag {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// One narrow-phase answer per candidate, kept by index so the output order
+/// does not depend on the thread schedule.
+struct CcdOutcome {
+  CcdResult result;
+  bool certified = false;
+};
+
+class CpuBackend final : public Backend {
+ public:
+  std::string name() const override { return "cpu"; }
+
+  void bind(const Scene& scene, const BackendSettings& settings) override {
+    scene_ = &scene;
+    settings_ = settings;
+    settings_.ccd.thickness = settings.thickness;
+    BroadPhaseSettings broad;
+    broad.lambda = settings.lambda;
+    broad.thickness = settings.thickness;
+    broad.threads = settings.threads;
+    ccd_broad_ = make_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
+    static_broad_ = make_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
+    ccd_broad_->build(scene, broad);
+    BroadPhaseSettings static_settings = broad;
+    static_settings.thickness = 0;
+    static_broad_->build(scene, static_settings);
+    arena_ = std::make_unique<tbb::task_arena>(settings.threads == 0 ? tbb::task_arena::automatic
+                                                                     : static_cast<int>(settings.threads));
+  }
+
+  void collisions(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) override {
+    stats_ = PipelineStats{};
+    stats_.steps = 1;
+    arena_->execute([&] {
+      ccd_broad_->detect_ccd(x_t0, x_t1, vf_, ee_);
+      stats_.ccd_broad = ccd_broad_->stats();
+      const auto start = std::chrono::steady_clock::now();
+      const std::size_t first = events.size();
+      narrow_vertex_face(x_t0, x_t1, events);
+      narrow_edge_edge(x_t0, x_t1, events);
+      std::sort(events.begin() + static_cast<std::ptrdiff_t>(first), events.end(), event_order);
+      stats_.narrow.seconds_ccd = seconds_since(start) - stats_.narrow.seconds_certify;
+    });
+  }
+
+  void intersections(const std::vector<Vec3>& x, std::vector<Event>& events) override {
+    stats_ = PipelineStats{};
+    stats_.frames = 1;
+    arena_->execute([&] {
+      static_broad_->detect_static(x, pairs_);
+      stats_.static_broad = static_broad_->stats();
+      const auto start = std::chrono::steady_clock::now();
+      const auto& triangles = scene_->triangles();
+      std::vector<unsigned char> hit(pairs_.size(), 0);
+      tbb::enumerable_thread_specific<PredicateCounters> counters;
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 256), [&](const auto& range) {
+        PredicateCounters& local = counters.local();
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const Triangle& ta = triangles[pairs_[i].a];
+          const Triangle& tb = triangles[pairs_[i].b];
+          const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
+          const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
+          hit[i] = triangles_intersect(a, ta.data(), b, tb.data(), &local) ? 1 : 0;
+        }
+      });
+      for (const PredicateCounters& local : counters) {
+        stats_.narrow.predicate_calls += local.calls;
+        stats_.narrow.predicate_exact += local.exact;
+      }
+      stats_.narrow.triangle_tests = pairs_.size();
+      for (std::size_t i = 0; i < pairs_.size(); ++i) {
+        if (!hit[i]) continue;
+        const Triangle& ta = triangles[pairs_[i].a];
+        const Triangle& tb = triangles[pairs_[i].b];
+        const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
+        const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
+        Event event;
+        event.kind = EventKind::kIntersection;
+        event.type = ContactType::kTriangleTriangle;
+        event.a = pairs_[i].a;
+        event.b = pairs_[i].b;
+        event.position = triangles_meeting_point(a, b);
+        events.push_back(event);
+        ++stats_.narrow.triangles_intersecting;
+      }
+      stats_.narrow.seconds_static = seconds_since(start);
+    });
+  }
+
+  const PipelineStats& stats() const override { return stats_; }
+
+ private:
+  // Certifies an uncertain answer exactly when a certifier is bound.
+  void certify(CcdOutcome& outcome, const std::array<Vec3, 8>& points, bool edge_edge) const {
+    if (outcome.result.answer != CcdAnswer::kUncertain || settings_.certifier == nullptr) return;
+    const ExactAnswer exact = edge_edge ? settings_.certifier->edge_edge(points, settings_.thickness)
+                                        : settings_.certifier->vertex_face(points, settings_.thickness);
+    outcome.certified = true;
+    outcome.result.answer = exact.collides ? CcdAnswer::kYes : CcdAnswer::kNo;
+    outcome.result.toi_lo = exact.toi_lo;
+    outcome.result.toi_hi = exact.toi_hi;
+  }
+
+  template <typename Candidate, typename Test, typename Emit>
+  void run_ccd(const std::vector<Candidate>& candidates, bool edge_edge, Test test, Emit emit,
+               std::vector<Event>& events) {
+    std::vector<CcdOutcome> outcomes(candidates.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) outcomes[i].result = test(candidates[i]);
+    });
+    std::size_t yes = 0, no = 0, uncertain = 0;
+    std::vector<std::size_t> to_certify;
+    for (std::size_t i = 0; i < outcomes.size(); ++i) {
+      switch (outcomes[i].result.answer) {
+        case CcdAnswer::kYes: ++yes; break;
+        case CcdAnswer::kNo: ++no; break;
+        case CcdAnswer::kUncertain: ++uncertain; to_certify.push_back(i); break;
+      }
+    }
+    (edge_edge ? stats_.narrow.ee_tests : stats_.narrow.vf_tests) += candidates.size();
+    (edge_edge ? stats_.narrow.ee_yes : stats_.narrow.vf_yes) += yes;
+    (edge_edge ? stats_.narrow.ee_no : stats_.narrow.vf_no) += no;
+    (edge_edge ? stats_.narrow.ee_uncertain : stats_.narrow.vf_uncertain) += uncertain;
+    if (settings_.certifier != nullptr && !to_certify.empty()) {
+      const auto start = std::chrono::steady_clock::now();
+      tbb::parallel_for(std::size_t{0}, to_certify.size(), [&](std::size_t k) {
+        const std::size_t i = to_certify[k];
+        certify(outcomes[i], emit.points(candidates[i]), edge_edge);
+      });
+      stats_.narrow.seconds_certify += seconds_since(start);
+      stats_.narrow.certified += to_certify.size();
+      for (std::size_t i : to_certify) stats_.narrow.certified_true += outcomes[i].result.answer == CcdAnswer::kYes;
+    }
+    for (std::size_t i = 0; i < outcomes.size(); ++i) {
+      if (outcomes[i].result.answer == CcdAnswer::kNo) continue;
+      events.push_back(emit.event(candidates[i], outcomes[i]));
+    }
+  }
+
+  void narrow_vertex_face(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
+    const auto& triangles = scene_->triangles();
+    const CcdSettings ccd = settings_.ccd;
+    struct Emit {
+      const std::vector<Triangle>& triangles;
+      const std::vector<Vec3>& x_t0;
+      const std::vector<Vec3>& x_t1;
+      std::array<Vec3, 8> points(const VertexFaceCandidate& c) const {
+        const Triangle& f = triangles[c.face];
+        return {x_t0[c.vertex], x_t0[f[0]], x_t0[f[1]], x_t0[f[2]],
+                x_t1[c.vertex], x_t1[f[0]], x_t1[f[1]], x_t1[f[2]]};
+      }
+      Event event(const VertexFaceCandidate& c, const CcdOutcome& outcome) const {
+        Event e;
+        e.kind = EventKind::kCollision;
+        e.type = ContactType::kVertexFace;
+        e.a = c.vertex;
+        e.b = c.face;
+        e.toi_lo = outcome.result.toi_lo;
+        e.toi_hi = outcome.result.toi_hi;
+        e.certainty = outcome.result.answer == CcdAnswer::kYes ? Certainty::kProven : Certainty::kUncertain;
+        e.position = lerp(x_t0[c.vertex], x_t1[c.vertex], 0.5 * (e.toi_lo + e.toi_hi));
+        return e;
+      }
+    } emit{triangles, x_t0, x_t1};
+    auto test = [&](const VertexFaceCandidate& c) {
+      const Triangle& f = triangles[c.face];
+      return vertex_face_ccd(x_t0[c.vertex], x_t0[f[0]], x_t0[f[1]], x_t0[f[2]], x_t1[c.vertex], x_t1[f[0]],
+                             x_t1[f[1]], x_t1[f[2]], ccd);
+    };
+    run_ccd(vf_, false, test, emit, events);
+  }
+
+  void narrow_edge_edge(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
+    const auto& edges = scene_->edges();
+    const CcdSettings ccd = settings_.ccd;
+    struct Emit {
+      const std::vector<Edge>& edges;
+      const std::vector<Vec3>& x_t0;
+      const std::vector<Vec3>& x_t1;
+      std::array<Vec3, 8> points(const EdgeEdgeCandidate& c) const {
+        const Edge& a = edges[c.edge_a];
+        const Edge& b = edges[c.edge_b];
+        return {x_t0[a[0]], x_t0[a[1]], x_t0[b[0]], x_t0[b[1]], x_t1[a[0]], x_t1[a[1]], x_t1[b[0]], x_t1[b[1]]};
+      }
+      Event event(const EdgeEdgeCandidate& c, const CcdOutcome& outcome) const {
+        Event e;
+        e.kind = EventKind::kCollision;
+        e.type = ContactType::kEdgeEdge;
+        e.a = c.edge_a;
+        e.b = c.edge_b;
+        e.toi_lo = outcome.result.toi_lo;
+        e.toi_hi = outcome.result.toi_hi;
+        e.certainty = outcome.result.answer == CcdAnswer::kYes ? Certainty::kProven : Certainty::kUncertain;
+        const double t = 0.5 * (e.toi_lo + e.toi_hi);
+        const Edge& a = edges[c.edge_a];
+        const Edge& b = edges[c.edge_b];
+        e.position = segments_meeting_point(lerp(x_t0[a[0]], x_t1[a[0]], t), lerp(x_t0[a[1]], x_t1[a[1]], t),
+                                            lerp(x_t0[b[0]], x_t1[b[0]], t), lerp(x_t0[b[1]], x_t1[b[1]], t));
+        return e;
+      }
+    } emit{edges, x_t0, x_t1};
+    auto test = [&](const EdgeEdgeCandidate& c) {
+      const Edge& a = edges[c.edge_a];
+      const Edge& b = edges[c.edge_b];
+      return edge_edge_ccd(x_t0[a[0]], x_t0[a[1]], x_t0[b[0]], x_t0[b[1]], x_t1[a[0]], x_t1[a[1]], x_t1[b[0]],
+                           x_t1[b[1]], ccd);
+    };
+    run_ccd(ee_, true, test, emit, events);
+  }
+
+  const Scene* scene_ = nullptr;
+  BackendSettings settings_;
+  std::unique_ptr<BroadPhase> ccd_broad_, static_broad_;
+  std::unique_ptr<tbb::task_arena> arena_;
+  std::vector<VertexFaceCandidate> vf_;
+  std::vector<EdgeEdgeCandidate> ee_;
+  std::vector<TrianglePair> pairs_;
+  PipelineStats stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> make_cpu_backend() { return std::make_unique<CpuBackend>(); }
+
+}  // namespace snag

@@ -1,0 +1,120 @@
+#include "libcd/pipeline/scan.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace snag {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void add_levels(std::vector<std::size_t>& total, const std::vector<std::size_t>& step) {
+  if (total.size() < step.size()) total.resize(step.size(), 0);
+  for (std::size_t i = 0; i < step.size(); ++i) total[i] += step[i];
+}
+
+// Sums the counters; the cell size and grid are the last step's.
+void add_broad(BroadPhaseStats& total, const BroadPhaseStats& s) {
+  total.cell_size = s.cell_size;
+  std::copy(std::begin(s.grid_dims), std::end(s.grid_dims), std::begin(total.grid_dims));
+  std::size_t BroadPhaseStats::*counters[] = {
+      &BroadPhaseStats::cells_used, &BroadPhaseStats::root_triangles, &BroadPhaseStats::triangles_subdivided,
+      &BroadPhaseStats::time_halvings, &BroadPhaseStats::oversized_leaves, &BroadPhaseStats::leaf_triangles,
+      &BroadPhaseStats::registrations, &BroadPhaseStats::home_registrations,
+      &BroadPhaseStats::phantom_registrations, &BroadPhaseStats::duplicate_registrations_removed,
+      &BroadPhaseStats::tests, &BroadPhaseStats::same_root_tests, &BroadPhaseStats::removed_by_time_slots,
+      &BroadPhaseStats::removed_by_control_bits, &BroadPhaseStats::removed_by_extended_control_bits,
+      &BroadPhaseStats::fallback_tests, &BroadPhaseStats::tests_after_control_bits,
+      &BroadPhaseStats::duplicate_root_pair_tests, &BroadPhaseStats::culled_by_dop, &BroadPhaseStats::triangle_pairs,
+      &BroadPhaseStats::vf_before_culling, &BroadPhaseStats::vf_after_culling, &BroadPhaseStats::ee_before_culling,
+      &BroadPhaseStats::ee_after_culling, &BroadPhaseStats::candidates};
+  for (auto field : counters) total.*field += s.*field;
+  total.memory_bytes = std::max(total.memory_bytes, s.memory_bytes);
+  add_levels(total.triangles_per_level, s.triangles_per_level);
+  add_levels(total.subdivided_per_level, s.subdivided_per_level);
+  add_levels(total.halved_per_level, s.halved_per_level);
+  double BroadPhaseStats::*seconds[] = {&BroadPhaseStats::seconds_bounds, &BroadPhaseStats::seconds_subdivision,
+                                        &BroadPhaseStats::seconds_registration, &BroadPhaseStats::seconds_pairs,
+                                        &BroadPhaseStats::seconds_features, &BroadPhaseStats::seconds_total};
+  for (auto field : seconds) total.*field += s.*field;
+}
+
+void add_narrow(NarrowPhaseStats& total, const NarrowPhaseStats& s) {
+  std::size_t NarrowPhaseStats::*counters[] = {
+      &NarrowPhaseStats::vf_tests,   &NarrowPhaseStats::vf_yes,         &NarrowPhaseStats::vf_no,
+      &NarrowPhaseStats::vf_uncertain, &NarrowPhaseStats::ee_tests,     &NarrowPhaseStats::ee_yes,
+      &NarrowPhaseStats::ee_no,      &NarrowPhaseStats::ee_uncertain,   &NarrowPhaseStats::certified,
+      &NarrowPhaseStats::certified_true, &NarrowPhaseStats::triangle_tests,
+      &NarrowPhaseStats::triangles_intersecting};
+  for (auto field : counters) total.*field += s.*field;
+  total.predicate_calls += s.predicate_calls;
+  total.predicate_exact += s.predicate_exact;
+  total.seconds_ccd += s.seconds_ccd;
+  total.seconds_certify += s.seconds_certify;
+  total.seconds_static += s.seconds_static;
+}
+
+}  // namespace
+
+void PipelineStats::add(const PipelineStats& other) {
+  steps += other.steps;
+  frames += other.frames;
+  if (other.steps > 0) add_broad(ccd_broad, other.ccd_broad);
+  if (other.frames > 0) add_broad(static_broad, other.static_broad);
+  add_narrow(narrow, other.narrow);
+}
+
+ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSettings& settings,
+                      const ProgressCallback& progress) {
+  const auto start = Clock::now();
+  ScanResult result;
+  const std::size_t frame_count = source.frame_count();
+  std::vector<Vec3> current, next;
+  std::vector<Event> found;
+  auto read = [&](std::size_t i, std::vector<Vec3>& into) {
+    const auto read_start = Clock::now();
+    source.read_frame(i, into);
+    result.read_seconds += seconds_since(read_start);
+  };
+  if (frame_count > 0) read(0, current);
+  for (std::size_t f = 0; f < frame_count; ++f) {
+    FrameSummary summary;
+    summary.frame = f;
+    if (settings.intersections) {
+      found.clear();
+      backend.intersections(current, found);
+      result.stats.add(backend.stats());
+      for (Event& event : found) event.frame = f;
+      summary.intersections = found.size();
+      result.events.insert(result.events.end(), found.begin(), found.end());
+    }
+    const bool has_next = f + 1 < frame_count;
+    if (has_next && (settings.collisions || settings.intersections)) read(f + 1, next);
+    if (settings.collisions && has_next) {
+      found.clear();
+      backend.collisions(current, next, found);
+      result.stats.add(backend.stats());
+      for (Event& event : found) {
+        event.frame = f;
+        ++summary.collisions;
+        summary.vertex_face += event.type == ContactType::kVertexFace;
+        summary.edge_edge += event.type == ContactType::kEdgeEdge;
+        summary.uncertain += event.certainty == Certainty::kUncertain;
+      }
+      result.events.insert(result.events.end(), found.begin(), found.end());
+    }
+    result.frames.push_back(summary);
+    std::swap(current, next);
+    if (progress) progress(f + 1, frame_count);
+  }
+  std::stable_sort(result.events.begin(), result.events.end(), event_order);
+  result.total_seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace snag

@@ -1,0 +1,29 @@
+// The scan report: JSON with a version number (schema in man/snag-scan.1).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "libcd/pipeline/scan.hpp"
+
+namespace snag::tools {
+
+/// What the report says about how the scan was run.
+struct ReportSettings {
+  std::string mode;        ///< "ccd", "dcd" or "all"
+  std::string backend;     ///< the back end that ran: "cpu" or "cuda"
+  std::string precision;   ///< "certified" or "fast"
+  double thickness = 0, lambda = 1.2;
+  unsigned threads = 0;
+  std::string frames;      ///< the --frames selection, empty for all
+  std::string source;      ///< FrameSource::description()
+};
+
+/// Current report schema version.
+constexpr int kReportVersion = 1;
+
+/// Builds the report. Element ids are local to their object; frames are the
+/// cache's 0-based frame indices after selection.
+nlohmann::json make_report(const FrameSource& source, const ScanResult& result, const ReportSettings& settings);
+
+}  // namespace snag::tools
