@@ -288,7 +288,6 @@ MeshData parse_ply(std::string_view bytes, const std::string& file) {
   }
   if (index_property < 0) throw InputError({file}, "face element has no vertex_indices list");
   const std::uint64_t vertex_count = vertex_element->count;
-  if (vertex_count >= static_cast<Index>(-1)) throw InputError({file}, "too many vertices");
 
   // Check every element's count against the bytes left before allocating.
   const std::size_t body_size = bytes.size() - header.body_offset;
@@ -308,6 +307,7 @@ MeshData parse_ply(std::string_view bytes, const std::string& file) {
     }
   }
 
+  if (vertex_count >= static_cast<Index>(-1)) throw InputError({file}, "too many vertices");
   MeshData mesh;
   mesh.positions.resize(static_cast<std::size_t>(vertex_count));
   std::vector<Triangle> triangles;
