@@ -1,0 +1,37 @@
+// A cache made of one mesh file per frame, all with the same topology.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/frame_files.hpp"
+#include "io/mesh_data.hpp"
+#include "libcd/scene/frame_source.hpp"
+
+namespace snag::io {
+
+class MeshSequenceSource : public FrameSource {
+ public:
+  /// Reads the first file for the topology; the others are read on demand.
+  /// `name_override` names the objects (see make_scene_objects); `description`
+  /// says what was opened ("OBJ sequence cache/cloth_%04d.obj").
+  /// Throws InputError for an empty list or a bad first file.
+  MeshSequenceSource(std::vector<FrameFile> files, const std::string& name_override, std::string description);
+
+  const Scene& scene() const override { return scene_; }
+  std::size_t frame_count() const override { return files_.size(); }
+  double frame_time(std::size_t i) const override { return files_[i].number; }
+  /// Parses file i only, checks its topology against frame 0 and gathers its
+  /// objects' positions. Throws InputError.
+  void read_frame(std::size_t i, std::vector<Vec3>& positions) const override;
+  std::string description() const override { return description_; }
+
+ private:
+  std::vector<FrameFile> files_;
+  MeshData reference_;  ///< frame 0's topology (positions dropped)
+  Scene scene_;
+  std::string description_;
+};
+
+}  // namespace snag::io

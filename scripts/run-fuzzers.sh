@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (clang, address + undefined sanitizers) in
+# build-fuzz/ and runs each for a fixed time from its seed corpus in
+# fuzz/corpus/<format>/. New inputs go to build-fuzz/corpus/<format>/ so the
+# committed seeds stay small. Usage: scripts/run-fuzzers.sh [seconds per target]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+seconds="${1:-20}"
+build="$root/build-fuzz"
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined" \
+  -DSNAG_BUILD_FUZZERS=ON -DSNAG_BUILD_TESTS=OFF -DSNAG_BUILD_BENCHMARKS=OFF \
+  -DSNAG_WITH_CUDA=OFF -DSNAG_WITH_CGAL=OFF -DSNAG_WITH_OPENVDB=OFF -DSNAG_WITH_ASSIMP=OFF >/dev/null
+formats=(ply obj stl pc2 mdd)
+ninja -C "$build" -j"${JOBS:-2}" "${formats[@]/#/fuzz_}"
+status=0
+for format in "${formats[@]}"; do
+  mkdir -p "$build/corpus/$format"
+  echo "== fuzz_$format for ${seconds}s"
+  if ! "$build/fuzz/fuzz_$format" -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
+      -artifact_prefix="$build/crash-$format-" "$build/corpus/$format" "$root/fuzz/corpus/$format" 2>"$build/fuzz_$format.log"; then
+    echo "fuzz_$format found a problem: see $build/fuzz_$format.log and $build/crash-$format-*"
+    status=1
+  fi
+  tail -n 1 "$build/fuzz_$format.log"
+done
+exit $status
