@@ -1,0 +1,99 @@
+// Conservative continuous collision detection of a vertex against a triangle,
+// usable from host and device code.
+//
+// Method: the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
+// "A Large Scale Benchmark and an Inclusion-Based Algorithm for Continuous
+// Collision Detection", ACM TOG 2021) on the contact function
+//   F(t, u, v) = p(t) - [(1 - u - v) a(t) + u b(t) + v c(t)],
+//   t, u, v in [0, 1], u + v <= 1,
+// where every point moves linearly, x(t) = (1 - t) x_t0 + t x_t1. The pair is
+// in contact at time t when |F(t, u, v)| <= thickness for some (u, v).
+//
+// Certificate of a crossing on [ta, tb] (thickness 0 or more), in outward-
+// rounded interval arithmetic:
+//   g(t) = (p - a) . n with n = (b - a) x (c - a) has strictly opposite signs
+//   at ta and at tb, so p(t*) is on the triangle's plane at some t* in
+//   [ta, tb]; and for every t in [ta, tb]
+//   ((b - a) x (p - a)) . n > 0, ((c - b) x (p - b)) . n > 0,
+//   ((a - c) x (p - c)) . n > 0,
+//   which for a point of the plane says it lies inside the triangle (n != 0
+//   follows). So p(t*) is on the closed triangle. A zero-area triangle, a
+//   vertex that only grazes the plane, or one that stays on it can never be
+//   certified this way and ends kUncertain unless excluded.
+#pragma once
+
+#include "libcd/core/host_device.hpp"
+#include "libcd/geometry/vec3.hpp"
+#include "libcd/narrow_phase/ccd_inclusion.hpp"
+#include "libcd/narrow_phase/ccd_result.hpp"
+#include "libcd/narrow_phase/interval.hpp"
+
+namespace snag {
+namespace ccd_detail {
+
+/// The vertex-face contact function for inclusion_ccd; points are
+/// p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1.
+struct VertexFaceContact {
+  Vec3 points[8];
+
+  SNAG_HD_INLINE void corner_values(const double t[2], const double u[2], const double v[2], Vec3 f[8]) const {
+    for (int ti = 0; ti < 2; ++ti) {
+      const double s = 1.0 - t[ti];
+      const Vec3 p = s * points[0] + t[ti] * points[4];
+      const Vec3 a = s * points[1] + t[ti] * points[5];
+      const Vec3 b = s * points[2] + t[ti] * points[6];
+      const Vec3 c = s * points[3] + t[ti] * points[7];
+      for (int ui = 0; ui < 2; ++ui) {
+        for (int vi = 0; vi < 2; ++vi) {
+          const double w = 1.0 - u[ui] - v[vi];
+          f[4 * ti + 2 * ui + vi] = p - w * a - u[ui] * b - v[vi] * c;
+        }
+      }
+    }
+  }
+  SNAG_HD_INLINE bool outside_domain(double u_lo, double v_lo) const { return u_lo + v_lo > 1; }
+  SNAG_HD_INLINE bool corner_in_domain(double u, double v) const { return u + v <= 1; }
+
+  /// Encloses g(t) = (p - a) . ((b - a) x (c - a)) for t in `time`.
+  SNAG_HD_INLINE Interval coplanarity(Interval time) const {
+    const IntervalVec3 p = position_over(points[0], points[4], time);
+    const IntervalVec3 a = position_over(points[1], points[5], time);
+    const IntervalVec3 b = position_over(points[2], points[6], time);
+    const IntervalVec3 c = position_over(points[3], points[7], time);
+    return dot(p - a, cross(b - a, c - a));
+  }
+
+  SNAG_HD_INLINE bool certify_crossing(double ta, double tb) const {
+    const Interval g_a = coplanarity(point_interval(ta));
+    const Interval g_b = coplanarity(point_interval(tb));
+    const bool sign_change = (certainly_positive(g_a) && certainly_negative(g_b)) ||
+                             (certainly_negative(g_a) && certainly_positive(g_b));
+    if (!sign_change) return false;
+    const Interval time{ta, tb};
+    const IntervalVec3 p = position_over(points[0], points[4], time);
+    const IntervalVec3 a = position_over(points[1], points[5], time);
+    const IntervalVec3 b = position_over(points[2], points[6], time);
+    const IntervalVec3 c = position_over(points[3], points[7], time);
+    const IntervalVec3 n = cross(b - a, c - a);
+    return certainly_positive(dot(cross(b - a, p - a), n)) && certainly_positive(dot(cross(c - b, p - b), n)) &&
+           certainly_positive(dot(cross(a - c, p - c), n));
+  }
+};
+
+}  // namespace ccd_detail
+
+/// Continuous collision of vertex p against triangle (a, b, c), every point
+/// moving linearly from its _t0 to its _t1 position over t in [0, 1].
+/// Positions in scene units (|coordinates| <= 1e60, else kUncertain).
+/// Returns kNo only when no contact (distance <= settings.thickness) exists,
+/// kYes only when one provably exists, else kUncertain; for kYes and
+/// kUncertain [toi_lo, toi_hi] encloses the earliest time of contact (see
+/// CcdResult). Never throws.
+SNAG_HD_INLINE CcdResult vertex_face_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                                         const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                                         const CcdSettings& settings) {
+  const ccd_detail::VertexFaceContact contact{{p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1}};
+  return ccd_detail::inclusion_ccd(contact, settings);
+}
+
+}  // namespace snag
