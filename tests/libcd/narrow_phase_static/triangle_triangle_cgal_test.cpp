@@ -245,7 +245,8 @@ TEST(TrianglesIntersectVsCgal, MatchesCgalRulesOnRandomSoupsWithSharedAndCoincid
     for (int v = 0; v < 40; ++v) {
       Vec3 p{double(coord(rng)), double(coord(rng)), double(coord(rng))};
       if (trial >= 2) p = p * std::ldexp(1.0, -30);
-      if (trial >= 4 && v % 3 == 0) p.z = std::nextafter(p.z, 1.0);
+      // One ulp up (an in-range tiny value instead of a subnormal at zero).
+      if (trial >= 4 && v % 3 == 0) p.z = p.z == 0.0 ? std::ldexp(1.0, -200) : std::nextafter(p.z, 1.0);
       positions.push_back(p);
     }
     for (int v = 0; v < 12; ++v) positions.push_back(positions[std::size_t(v) * 3]);
@@ -262,6 +263,7 @@ TEST(TrianglesIntersectVsCgal, MatchesCgalRulesOnRandomSoupsWithSharedAndCoincid
         const Vec3 a[3] = {positions[ta[0]], positions[ta[1]], positions[ta[2]]};
         const Vec3 b[3] = {positions[tb[0]], positions[tb[1]], positions[tb[2]]};
         TriangleAdjacency adjacency;
+        for (const Vec3& p : a) ASSERT_TRUE(is_in_exact_range(p));
         const bool ours = triangles_intersect(a, ta.data(), b, tb.data(), &counters, &adjacency);
         const bool a_degenerate = CGAL::collinear(Point(a[0].x, a[0].y, a[0].z), Point(a[1].x, a[1].y, a[1].z),
                                                   Point(a[2].x, a[2].y, a[2].z));
