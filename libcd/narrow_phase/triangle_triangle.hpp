@@ -1,0 +1,251 @@
+// Static triangle-triangle intersection (DCD narrow phase) with exact signs.
+//
+// Two triangles of one frame intersect when their closed point sets share a
+// point; triangles that share a vertex or an edge (by vertex id) count only
+// where they overlap beyond the shared feature. The rules for shared features
+// and degenerate triangles are those of CGAL's
+// Polygon_mesh_processing::self_intersections (CGAL 5.5,
+// do_faces_intersect), so the two agree pair for pair:
+//   - shared edge: intersect iff the four points are coplanar and the two
+//     opposite vertices lie strictly on the same side of the shared edge;
+//   - shared vertex: intersect iff the edge opposite the shared vertex in one
+//     triangle meets the other (closed) triangle, for either triangle;
+//   - nothing shared: the closed triangles intersect;
+//   - all three ids shared (a duplicated face): intersect (they coincide);
+//   - a degenerate triangle (collinear vertices, repeated ids included) is
+//     not tested: the result is false with adjacency `degenerate`, and the
+//     caller reports degenerate faces on their own, as CGAL does with its
+//     (f, f) pairs.
+//
+// The closed test for unrelated triangles uses the observation behind
+//   P. Guigue and O. Devillers, "Fast and Robust Triangle-Triangle Overlap
+//   Test Using Orientation Predicates", Journal of Graphics Tools 8(1), 2003:
+// after the plane-side rejection with orient3d, two triangles meet iff an edge
+// of one meets the other (an endpoint of the overlap of their intersection
+// intervals, or of the coplanar overlap region, lies on an edge). Each
+// segment-triangle test is decided by orient3d signs, and coplanar cases by
+// orient2d in a projection that keeps the triangle non-degenerate, so every
+// contact (vertex on face, edge in the other plane, coplanar overlap) is
+// decided exactly.
+//
+// Coordinates must satisfy is_in_exact_range (predicates.hpp).
+// Usable from host and device code.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "libcd/core/host_device.hpp"
+#include "libcd/geometry/predicates.hpp"
+#include "libcd/geometry/vec3.hpp"
+
+namespace snag {
+
+/// How two triangles are related by their vertex ids (and degeneracy).
+enum class TriangleAdjacency : std::uint8_t {
+  none,           ///< no shared vertex id
+  shared_vertex,  ///< exactly one shared vertex id
+  shared_edge,    ///< exactly two shared vertex ids
+  same_vertices,  ///< all three ids shared: a duplicated face
+  degenerate,     ///< at least one triangle has collinear vertices; not tested
+};
+
+/// Name of an adjacency, for reports ("none", "shared_vertex", ...).
+const char* to_string(TriangleAdjacency adjacency);
+
+namespace triangle_detail {
+
+/// A coordinate axis whose dropping projects the triangle to a non-degenerate
+/// 2D triangle, or -1 when the triangle is degenerate (its vertices are
+/// collinear: every projection is degenerate).
+SNAG_HD_INLINE int projection_axis(Vec3 t0, Vec3 t1, Vec3 t2, PredicateCounters* counters) {
+  const Vec3 n = cross(t1 - t0, t2 - t0);
+  const double nx = fabs(n.x), ny = fabs(n.y), nz = fabs(n.z);
+  // Try the floating-point dominant axis first; the exact test decides.
+  const int first = (nx >= ny && nx >= nz) ? 0 : (ny >= nz ? 1 : 2);
+  for (int k = 0; k < 3; ++k) {
+    const int axis = (first + k) % 3;
+    if (orient2d_projected(t0, t1, t2, axis, counters) != 0) return axis;
+  }
+  return -1;
+}
+
+/// Closed point-in-triangle test for coplanar p and non-degenerate t, in the
+/// projection dropping `axis`.
+SNAG_HD_INLINE bool point_in_triangle_2d(Vec3 p, Vec3 t0, Vec3 t1, Vec3 t2, int axis,
+                                         PredicateCounters* counters) {
+  const int s0 = orient2d_projected(t0, t1, p, axis, counters);
+  const int s1 = orient2d_projected(t1, t2, p, axis, counters);
+  const int s2 = orient2d_projected(t2, t0, p, axis, counters);
+  const bool has_negative = s0 < 0 || s1 < 0 || s2 < 0;
+  const bool has_positive = s0 > 0 || s1 > 0 || s2 > 0;
+  return !(has_negative && has_positive);
+}
+
+/// For c collinear with segment ab (in the projection): is c on the closed
+/// segment? Compared coordinate by coordinate, exactly.
+SNAG_HD_INLINE bool on_collinear_segment(Vec3 a, Vec3 b, Vec3 c) {
+  for (int i = 0; i < 3; ++i) {
+    const double lo = a[i] < b[i] ? a[i] : b[i];
+    const double hi = a[i] < b[i] ? b[i] : a[i];
+    if (c[i] < lo || c[i] > hi) return false;
+  }
+  return true;
+}
+
+/// Closed intersection of coplanar segments ab and cd (non-degenerate
+/// segments), in the projection dropping `axis`.
+SNAG_HD_INLINE bool segments_intersect_2d(Vec3 a, Vec3 b, Vec3 c, Vec3 d, int axis,
+                                          PredicateCounters* counters) {
+  const int abc = orient2d_projected(a, b, c, axis, counters);
+  const int abd = orient2d_projected(a, b, d, axis, counters);
+  if (abc * abd > 0) return false;
+  const int cda = orient2d_projected(c, d, a, axis, counters);
+  const int cdb = orient2d_projected(c, d, b, axis, counters);
+  if (cda * cdb > 0) return false;
+  if (abc != 0 || abd != 0 || cda != 0 || cdb != 0) {
+    // The lines differ. With no zero sign the segments cross properly. An
+    // endpoint on the other segment's line is the only point the lines
+    // share, so the segments meet iff it lies on that segment.
+    if (abc == 0) return on_collinear_segment(a, b, c);
+    if (abd == 0) return on_collinear_segment(a, b, d);
+    if (cda == 0) return on_collinear_segment(c, d, a);
+    if (cdb == 0) return on_collinear_segment(c, d, b);
+    return true;
+  }
+  // All four points collinear: overlapping ranges.
+  return on_collinear_segment(a, b, c) || on_collinear_segment(a, b, d) ||
+         on_collinear_segment(c, d, a) || on_collinear_segment(c, d, b);
+}
+
+/// Closed intersection of segment ab and a non-degenerate triangle t lying in
+/// one plane, in the projection dropping `axis` (non-degenerate for t).
+SNAG_HD_INLINE bool coplanar_segment_triangle(Vec3 a, Vec3 b, Vec3 t0, Vec3 t1, Vec3 t2, int axis,
+                                              PredicateCounters* counters) {
+  return point_in_triangle_2d(a, t0, t1, t2, axis, counters) ||
+         point_in_triangle_2d(b, t0, t1, t2, axis, counters) ||
+         segments_intersect_2d(a, b, t0, t1, axis, counters) ||
+         segments_intersect_2d(a, b, t1, t2, axis, counters) ||
+         segments_intersect_2d(a, b, t2, t0, axis, counters);
+}
+
+/// Closed intersection of segment ab with non-degenerate triangle t, given
+/// side_a = orient3d(t0, t1, t2, a), side_b = orient3d(t0, t1, t2, b) and a
+/// projection axis that keeps t non-degenerate.
+SNAG_HD_INLINE bool segment_triangle(Vec3 a, Vec3 b, int side_a, int side_b, Vec3 t0, Vec3 t1,
+                                     Vec3 t2, int axis, PredicateCounters* counters) {
+  if (side_a * side_b > 0) return false;
+  if (side_a == 0 && side_b == 0) return coplanar_segment_triangle(a, b, t0, t1, t2, axis, counters);
+  // The line ab crosses the plane once, at a point of the closed segment; it
+  // lies in the closed triangle iff the line passes on no strict opposite
+  // sides of the triangle's edges.
+  const int s0 = orient3d(a, b, t0, t1, counters);
+  const int s1 = orient3d(a, b, t1, t2, counters);
+  if (s0 * s1 < 0) return false;
+  const int s2 = orient3d(a, b, t2, t0, counters);
+  const bool has_negative = s0 < 0 || s1 < 0 || s2 < 0;
+  const bool has_positive = s0 > 0 || s1 > 0 || s2 > 0;
+  return !(has_negative && has_positive);
+}
+
+/// Closed intersection of two non-degenerate triangles p and q with their
+/// projection axes.
+SNAG_HD_INLINE bool closed_triangles_intersect(const Vec3 p[3], int p_axis, const Vec3 q[3], int q_axis,
+                                               PredicateCounters* counters) {
+  int q_side[3], p_side[3];
+  for (int i = 0; i < 3; ++i) q_side[i] = orient3d(p[0], p[1], p[2], q[i], counters);
+  if (q_side[0] * q_side[1] > 0 && q_side[1] * q_side[2] > 0) return false;
+  for (int i = 0; i < 3; ++i) p_side[i] = orient3d(q[0], q[1], q[2], p[i], counters);
+  if (p_side[0] * p_side[1] > 0 && p_side[1] * p_side[2] > 0) return false;
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    if (segment_triangle(p[i], p[j], p_side[i], p_side[j], q[0], q[1], q[2], q_axis, counters))
+      return true;
+  }
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    if (segment_triangle(q[i], q[j], q_side[i], q_side[j], p[0], p[1], p[2], p_axis, counters))
+      return true;
+  }
+  return false;
+}
+
+}  // namespace triangle_detail
+
+/// True when the vertices p0, p1, p2 are collinear (exactly), including
+/// repeated positions. Such a triangle has no plane and is reported apart.
+SNAG_HD_INLINE bool is_degenerate_triangle(Vec3 p0, Vec3 p1, Vec3 p2, PredicateCounters* counters = nullptr) {
+  return triangle_detail::projection_axis(p0, p1, p2, counters) < 0;
+}
+
+/// Whether two triangles of one frame intersect, with the shared-feature and
+/// degenerate-triangle rules in this file's header (CGAL's self_intersections
+/// rules).
+///   a, b: [in] the 3 vertex positions of each triangle (any units)
+///   a_ids, b_ids: [in] the 3 vertex ids of each triangle, in the same order;
+///     ids decide which features are shared (equal positions under different
+///     ids are not a shared feature)
+///   counters: [in,out] optional predicate counters (null to skip)
+///   adjacency: [out] optional, how the two triangles are related
+/// Positions must satisfy is_in_exact_range. Does not throw.
+SNAG_HD_INLINE bool triangles_intersect(const Vec3 a[3], const std::uint32_t a_ids[3], const Vec3 b[3],
+                                        const std::uint32_t b_ids[3], PredicateCounters* counters = nullptr,
+                                        TriangleAdjacency* adjacency = nullptr) {
+  using namespace triangle_detail;
+  TriangleAdjacency relation = TriangleAdjacency::none;
+  bool result = false;
+  const int a_axis = projection_axis(a[0], a[1], a[2], counters);
+  const int b_axis = a_axis < 0 ? -1 : projection_axis(b[0], b[1], b[2], counters);
+  if (a_axis < 0 || b_axis < 0) {
+    relation = TriangleAdjacency::degenerate;
+  } else {
+    int shared_count = 0, a_shared = -1, b_shared = -1;
+    bool a_is_shared[3] = {false, false, false};
+    bool b_is_shared[3] = {false, false, false};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (a_ids[i] == b_ids[j]) {
+          ++shared_count;
+          a_is_shared[i] = b_is_shared[j] = true;
+          a_shared = i;
+          b_shared = j;
+        }
+    if (shared_count >= 3) {
+      relation = TriangleAdjacency::same_vertices;
+      result = true;
+    } else if (shared_count == 2) {
+      relation = TriangleAdjacency::shared_edge;
+      int a_opposite = 0, b_opposite = 0;
+      for (int i = 0; i < 3; ++i) {
+        if (!a_is_shared[i]) a_opposite = i;
+        if (!b_is_shared[i]) b_opposite = i;
+      }
+      const Vec3 edge0 = a[a_opposite == 2 ? 0 : a_opposite + 1];
+      const Vec3 edge1 = a[a_opposite == 0 ? 2 : a_opposite - 1];
+      const Vec3 r = a[a_opposite], s = b[b_opposite];
+      if (orient3d(a[0], a[1], a[2], s, counters) == 0) {
+        // Coplanar: overlap iff r and s are strictly on the same side of the
+        // shared edge's line (CGAL's coplanar_orientation == POSITIVE).
+        const int r_side = orient2d_projected(edge0, edge1, r, a_axis, counters);
+        const int s_side = orient2d_projected(edge0, edge1, s, a_axis, counters);
+        result = r_side * s_side > 0;
+      }
+    } else if (shared_count == 1) {
+      relation = TriangleAdjacency::shared_vertex;
+      const Vec3 a_far0 = a[(a_shared + 1) % 3], a_far1 = a[(a_shared + 2) % 3];
+      const Vec3 b_far0 = b[(b_shared + 1) % 3], b_far1 = b[(b_shared + 2) % 3];
+      result = segment_triangle(b_far0, b_far1, orient3d(a[0], a[1], a[2], b_far0, counters),
+                                orient3d(a[0], a[1], a[2], b_far1, counters), a[0], a[1], a[2], a_axis,
+                                counters) ||
+               segment_triangle(a_far0, a_far1, orient3d(b[0], b[1], b[2], a_far0, counters),
+                                orient3d(b[0], b[1], b[2], a_far1, counters), b[0], b[1], b[2], b_axis,
+                                counters);
+    } else {
+      result = closed_triangles_intersect(a, a_axis, b, b_axis, counters);
+    }
+  }
+  if (adjacency) *adjacency = relation;
+  return result;
+}
+
+}  // namespace snag
