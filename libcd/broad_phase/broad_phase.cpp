@@ -1,0 +1,17 @@
+#include "libcd/broad_phase/broad_phase.hpp"
+
+#include "libcd/broad_phase/brute_force.hpp"
+#include "libcd/broad_phase/virtual_subdivision_grid.hpp"
+
+namespace snag {
+
+std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseMethod method) {
+  switch (method) {
+    case BroadPhaseMethod::kVirtualSubdivisionGrid: return std::make_unique<VirtualSubdivisionGrid>(true);
+    case BroadPhaseMethod::kLargestTriangleGrid: return std::make_unique<VirtualSubdivisionGrid>(false);
+    case BroadPhaseMethod::kBruteForce: return std::make_unique<BruteForceBroadPhase>();
+  }
+  return nullptr;
+}
+
+}  // namespace snag

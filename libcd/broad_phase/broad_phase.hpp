@@ -1,0 +1,91 @@
+// The broad phase stage: an interface, its settings and counters, and a
+// factory (after ipc-toolkit's broad_phase/). Every broad phase returns the
+// same kinds of exact sets: sorted, unique, never a VF or EE pair sharing a
+// vertex. See each implementation for the set it returns.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "libcd/broad_phase/candidates.hpp"
+#include "libcd/geometry/vec3.hpp"
+#include "libcd/scene/scene.hpp"
+
+namespace snag {
+
+struct BroadPhaseSettings {
+  double lambda = 1.2;              ///< cell size = 3·λ·r_avg (> 1)
+  double thickness = 0;             ///< pairs within this distance are kept; scene units, ≥ 0
+  int max_subdivision_levels = 16;  ///< safety limit on Loop levels per triangle
+  int max_time_halvings = 12;       ///< safety limit on time halvings per triangle (CCD)
+  unsigned threads = 0;             ///< worker threads; 0 = all cores
+};
+
+/// Counts and times of one detection. The virtual subdivision chapter's
+/// claims are about these counts. Grid fields are 0 for brute force.
+struct BroadPhaseStats {
+  // grid
+  double cell_size = 0;
+  int grid_dims[3] = {0, 0, 0};
+  std::size_t cells_used = 0;
+  // virtual subdivision
+  std::size_t root_triangles = 0;
+  std::size_t triangles_subdivided = 0;  ///< Loop splits, all levels
+  std::size_t time_halvings = 0;         ///< time slot splits, all levels
+  std::size_t oversized_leaves = 0;      ///< accepted at the safety limits
+  std::vector<std::size_t> triangles_per_level, subdivided_per_level, halved_per_level;
+  std::size_t leaf_triangles = 0;
+  // registration
+  std::size_t registrations = 0, home_registrations = 0, phantom_registrations = 0;
+  std::size_t duplicate_registrations_removed = 0;  ///< by the scan after the sort
+  // pair tests (one per work item)
+  std::size_t tests = 0;                          ///< pairs enumerated in cells
+  std::size_t same_root_tests = 0;                ///< both registrations of one root (left by the scan, or other slots)
+  std::size_t removed_by_time_slots = 0;          ///< slots not nested
+  std::size_t removed_by_control_bits = 0;
+  std::size_t removed_by_extended_control_bits = 0;
+  std::size_t fallback_tests = 0;                 ///< phantom-phantom pairs tested (see control_bits.hpp)
+  std::size_t tests_after_control_bits = 0;
+  std::size_t duplicate_root_pair_tests = 0;      ///< of tests_after_control_bits, root pairs tested more than once (exact)
+  std::size_t culled_by_dop = 0;                  ///< tests culled by the triangles' 18-DOPs
+  std::size_t triangle_pairs = 0;                 ///< unique triangle pairs after DOP culling
+  // features
+  std::size_t vf_before_culling = 0, vf_after_culling = 0;
+  std::size_t ee_before_culling = 0, ee_after_culling = 0;
+  std::size_t candidates = 0;  ///< final output size
+  std::size_t memory_bytes = 0;  ///< bytes of the main arrays (peak working set estimate)
+  // seconds per stage
+  double seconds_bounds = 0, seconds_subdivision = 0, seconds_registration = 0, seconds_pairs = 0,
+         seconds_features = 0, seconds_total = 0;
+};
+
+class BroadPhase {
+ public:
+  virtual ~BroadPhase() = default;
+
+  /// Binds a scene (topology) and settings; call again when they change.
+  /// Throws UsageError for settings out of range (λ ≤ 1 for the grid, negative thickness).
+  virtual void build(const Scene& scene, const BroadPhaseSettings& settings) = 0;
+
+  /// Continuous candidates for the step x_t0 → x_t1 (#V global positions each).
+  /// Throws UsageError when build() was not called or the sizes differ from the scene's.
+  virtual void detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                          std::vector<VertexFaceCandidate>& vf, std::vector<EdgeEdgeCandidate>& ee) = 0;
+
+  /// Static triangle pairs at positions x (#V). Throws like detect_ccd.
+  virtual void detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) = 0;
+
+  /// Counts of the last detection.
+  virtual const BroadPhaseStats& stats() const = 0;
+};
+
+enum class BroadPhaseMethod {
+  kVirtualSubdivisionGrid,  ///< the chapter's method (virtual_subdivision_grid.hpp)
+  kLargestTriangleGrid,     ///< Grand's grid, cell fits the largest triangle, no subdivision
+  kBruteForce,              ///< all triangle pairs (brute_force.hpp)
+};
+
+std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseMethod method);
+
+}  // namespace snag

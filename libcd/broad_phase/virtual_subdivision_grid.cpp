@@ -1,0 +1,238 @@
+#include "libcd/broad_phase/virtual_subdivision_grid.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "libcd/core/error.hpp"
+#include "libcd/grid/cell_registration.hpp"
+#include "libcd/grid/cell_size.hpp"
+#include "libcd/grid/control_bits.hpp"
+#include "libcd/grid/pair_index.hpp"
+
+namespace snag {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+int arena_threads(unsigned threads) {
+  return threads == 0 ? tbb::task_arena::automatic : static_cast<int>(threads);
+}
+
+void check_positions(const Scene* scene, const std::vector<Vec3>& x, const char* what) {
+  if (scene == nullptr) throw UsageError("broad phase: build() must be called before detection");
+  if (x.size() != scene->vertex_count())
+    throw UsageError(std::string("broad phase: ") + what + " holds " + std::to_string(x.size()) +
+                     " positions, the scene has " + std::to_string(scene->vertex_count()) + " vertices");
+}
+
+/// Counters of one chunk of work items.
+struct PairCounts {
+  std::size_t same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0;
+};
+
+}  // namespace
+
+void VirtualSubdivisionGrid::build(const Scene& scene, const BroadPhaseSettings& settings) {
+  if (!(settings.lambda > 1.0)) throw UsageError("broad phase: lambda must be greater than 1");
+  if (!(settings.thickness >= 0.0)) throw UsageError("broad phase: thickness must be >= 0");
+  if (settings.max_subdivision_levels < 0 || settings.max_subdivision_levels > 30 || settings.max_time_halvings < 0 ||
+      settings.max_time_halvings > 30)
+    throw UsageError("broad phase: safety limits must lie in [0, 30]");
+  scene_ = &scene;
+  settings_ = settings;
+  tbb::task_arena arena(arena_threads(settings.threads));
+  arena.execute([&] { reps_ = assign_representative_triangles(scene); });
+}
+
+std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vector<Vec3>& x_t0,
+                                                                 const std::vector<Vec3>& x_t1) {
+  const Scene& scene = *scene_;
+  stats_ = BroadPhaseStats{};
+  const auto start = Clock::now();
+
+  // 1. Bounding volumes of triangles, edges and vertices.
+  auto t = Clock::now();
+  bounds_ = compute_primitive_bounds(scene, x_t0, x_t1, settings_.thickness);
+  stats_.seconds_bounds = seconds_since(t);
+
+  // 2. Cell size and grid; 3. virtual subdivision.
+  t = Clock::now();
+  const double size = subdivide_ ? virtual_subdivision_cell_size(bounds_.triangle_radii, settings_.lambda)
+                                 : largest_triangle_cell_size(bounds_.triangle_radii);
+  grid_ = make_grid(bounds_.scene_lo, bounds_.scene_hi, size);
+  stats_.cell_size = grid_.cell_size;
+  for (int a = 0; a < 3; ++a) stats_.grid_dims[a] = grid_.dims[a];
+  std::vector<SubdivisionLevelCounts> levels;
+  leaves_ = subdivide_virtually(scene, x_t0, x_t1, grid_, settings_.thickness,
+                                static_cast<std::uint32_t>(subdivide_ ? settings_.max_subdivision_levels : 0),
+                                static_cast<std::uint32_t>(subdivide_ ? settings_.max_time_halvings : 0), levels);
+  stats_.root_triangles = scene.triangle_count();
+  for (const SubdivisionLevelCounts& level : levels) {
+    stats_.triangles_per_level.push_back(level.triangles);
+    stats_.subdivided_per_level.push_back(level.subdivided);
+    stats_.halved_per_level.push_back(level.halved);
+    stats_.triangles_subdivided += level.subdivided;
+    stats_.time_halvings += level.halved;
+    stats_.oversized_leaves += level.oversized;
+  }
+  stats_.leaf_triangles = leaves_.size();
+  stats_.seconds_subdivision = seconds_since(t);
+
+  // 4. Registration, one sort, one scan.
+  t = Clock::now();
+  RegistrationCounts reg;
+  const CellLists lists = register_leaves(leaves_, grid_, reg);
+  stats_.registrations = reg.registrations;
+  stats_.home_registrations = reg.home;
+  stats_.phantom_registrations = reg.phantom;
+  stats_.duplicate_registrations_removed = reg.duplicates_removed;
+  stats_.cells_used = lists.cell_ids.size();
+  stats_.seconds_registration = seconds_since(t);
+
+  // 5. One test per work item: prefix sums of per-cell pair counts.
+  t = Clock::now();
+  const std::size_t cells = lists.cell_ids.size();
+  std::vector<std::uint64_t> first_test(cells + 1, 0);
+  for (std::size_t c = 0; c < cells; ++c)
+    first_test[c + 1] = first_test[c] + pair_count(lists.first[c + 1] - lists.first[c]);
+  const std::uint64_t tests = first_test[cells];
+  stats_.tests = tests;
+
+  constexpr std::uint64_t kChunk = 1 << 16;
+  const std::size_t chunks = static_cast<std::size_t>((tests + kChunk - 1) / kChunk);
+  std::vector<std::vector<std::uint64_t>> chunk_keys(chunks), chunk_culled(chunks);
+  std::vector<PairCounts> chunk_counts(chunks);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
+    const std::uint64_t begin = chunk * kChunk, end = std::min<std::uint64_t>(tests, begin + kChunk);
+    // Work item w -> (cell, i, j): the binary search and inversion of
+    // grid/pair_index.hpp for the chunk's first item, then stepping, which
+    // gives the same mapping item by item.
+    std::uint64_t c = cell_of_work_item(first_test.data(), cells, begin), i = 0, j = 0;
+    std::uint64_t n = lists.first[c + 1] - lists.first[c];
+    pair_from_index(n, begin - first_test[c], i, j);
+    PairCounts& counts = chunk_counts[chunk];
+    std::vector<std::uint64_t>& keys = chunk_keys[chunk];
+    for (std::uint64_t w = begin; w < end; ++w) {
+      const Leaf& a = leaves_[lists.leaves[lists.first[c] + i]];
+      const Leaf& b = leaves_[lists.leaves[lists.first[c] + j]];
+      if (a.triangle.root == b.triangle.root) {
+        ++counts.same_root;
+      } else if (!slots_nested(a.triangle, b.triangle)) {
+        ++counts.time_slots;
+      } else {
+        switch (cell_pair_verdict(grid_, a.cells, b.cells, lists.cell_ids[c])) {
+          case CellPairVerdict::kSkipControlBits: ++counts.control_bits; break;
+          case CellPairVerdict::kSkipExtendedBits: ++counts.extended; break;
+          case CellPairVerdict::kTestFallback: ++counts.fallback; [[fallthrough]];
+          case CellPairVerdict::kTest: {
+            ++counts.passed;
+            const Index ra = a.triangle.root, rb = b.triangle.root;
+            if (dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb])) keys.push_back(pack_pair(ra, rb));
+            else chunk_culled[chunk].push_back(pack_pair(ra, rb));
+            break;
+          }
+        }
+      }
+      // Next work item.
+      if (++j == n) {
+        ++i;
+        j = i + 1;
+        if (j >= n) {
+          do { ++c; } while (c < cells && first_test[c + 1] == first_test[c]);
+          if (c < cells) {
+            n = lists.first[c + 1] - lists.first[c];
+            i = 0;
+            j = 1;
+          }
+        }
+      }
+    }
+  });
+  std::size_t key_count = 0;
+  for (std::size_t k = 0; k < chunks; ++k) {
+    const PairCounts& counts = chunk_counts[k];
+    stats_.same_root_tests += counts.same_root;
+    stats_.removed_by_time_slots += counts.time_slots;
+    stats_.removed_by_control_bits += counts.control_bits;
+    stats_.removed_by_extended_control_bits += counts.extended;
+    stats_.fallback_tests += counts.fallback;
+    stats_.tests_after_control_bits += counts.passed;
+    stats_.culled_by_dop += chunk_culled[k].size();
+    key_count += chunk_keys[k].size();
+  }
+  std::vector<std::uint64_t> keys;
+  keys.reserve(key_count);
+  for (auto& chunk : chunk_keys) {
+    keys.insert(keys.end(), chunk.begin(), chunk.end());
+    std::vector<std::uint64_t>().swap(chunk);
+  }
+
+  // 6. Final sort + unique. Duplicate root-pair tests are counted exactly
+  // among all tests that passed the control bits: those kept by the DOP test
+  // and those it culled (the DOP test depends on the root pair only).
+  std::vector<std::uint64_t> culled;
+  culled.reserve(stats_.culled_by_dop);
+  for (auto& chunk : chunk_culled) {
+    culled.insert(culled.end(), chunk.begin(), chunk.end());
+    std::vector<std::uint64_t>().swap(chunk);
+  }
+  tbb::parallel_sort(culled.begin(), culled.end());
+  const std::size_t culled_tests = culled.size();
+  const std::size_t culled_unique = static_cast<std::size_t>(std::unique(culled.begin(), culled.end()) - culled.begin());
+  std::vector<std::uint64_t>().swap(culled);
+  tbb::parallel_sort(keys.begin(), keys.end());
+  const std::size_t kept_tests = keys.size();
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  const std::size_t duplicates = (kept_tests - keys.size()) + (culled_tests - culled_unique);
+  stats_.seconds_pairs = seconds_since(t);
+  stats_.triangle_pairs = keys.size();
+
+  stats_.memory_bytes = leaves_.capacity() * sizeof(Leaf) + reg.registrations * 16 + lists.leaves.capacity() * 4 +
+                        lists.cell_ids.capacity() * 8 + lists.first.capacity() * 8 + first_test.capacity() * 8 +
+                        (kept_tests + culled_tests) * 8 +
+                        (bounds_.triangles.size() + bounds_.edges.size() + bounds_.vertices.size()) * sizeof(Dop18);
+  stats_.duplicate_root_pair_tests = duplicates;
+  std::vector<TrianglePair> pairs(keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) pairs[k] = unpack_pair(keys[k]);
+  stats_.seconds_total = seconds_since(start);
+  return pairs;
+}
+
+void VirtualSubdivisionGrid::detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                        std::vector<VertexFaceCandidate>& vf, std::vector<EdgeEdgeCandidate>& ee) {
+  check_positions(scene_, x_t0, "x_t0");
+  check_positions(scene_, x_t1, "x_t1");
+  tbb::task_arena arena(arena_threads(settings_.threads));
+  arena.execute([&] {
+    const auto start = Clock::now();
+    const std::vector<TrianglePair> pairs = triangle_pairs(x_t0, x_t1);
+    const auto t = Clock::now();
+    FeatureCounts counts;
+    representative_feature_pairs(*scene_, reps_, bounds_, pairs, vf, ee, counts);
+    stats_.vf_before_culling = counts.vf_before;
+    stats_.vf_after_culling = counts.vf_after;
+    stats_.ee_before_culling = counts.ee_before;
+    stats_.ee_after_culling = counts.ee_after;
+    stats_.candidates = vf.size() + ee.size();
+    stats_.seconds_features = seconds_since(t);
+    stats_.seconds_total = seconds_since(start);
+  });
+}
+
+void VirtualSubdivisionGrid::detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) {
+  check_positions(scene_, x, "x");
+  tbb::task_arena arena(arena_threads(settings_.threads));
+  arena.execute([&] {
+    pairs = triangle_pairs(x, x);
+    stats_.candidates = pairs.size();
+  });
+}
+
+}  // namespace snag

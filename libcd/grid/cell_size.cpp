@@ -1,0 +1,35 @@
+#include "libcd/grid/cell_size.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace snag {
+
+double virtual_subdivision_cell_size(const std::vector<double>& radii, double lambda) {
+  if (radii.empty()) return 0;
+  // Fixed-order sum: identical result for any thread count.
+  const double sum = std::accumulate(radii.begin(), radii.end(), 0.0);
+  return 3.0 * lambda * (sum / static_cast<double>(radii.size()));
+}
+
+double largest_triangle_cell_size(const std::vector<double>& radii) {
+  if (radii.empty()) return 0;
+  return 3.0 * *std::max_element(radii.begin(), radii.end()) * (1 + 1e-9);
+}
+
+GridSpec make_grid(Vec3 lo, Vec3 hi, double cell_size) {
+  GridSpec grid;
+  grid.origin = lo;
+  const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 0.0});
+  const double smallest = extent > 0 ? extent / double(1 << 20) : 1.0;
+  if (!(cell_size >= smallest) || !std::isfinite(cell_size)) cell_size = smallest;
+  grid.cell_size = cell_size;
+  for (int a = 0; a < 3; ++a) {
+    const double n = std::floor(std::max(hi[a] - lo[a], 0.0) / cell_size) + 1;
+    grid.dims[a] = static_cast<std::int32_t>(std::min(n, double(1 << 21)));
+  }
+  return grid;
+}
+
+}  // namespace snag

@@ -1,0 +1,34 @@
+// Cell size and extent of the grid.
+//
+// Wong, Leach, Zambetta, virtual subdivision for uniform-grid collision
+// detection (eq. 5.1): size = 3·λ·r_avg, r_avg the mean bounding-sphere radius
+// of the triangles in the current frame; λ > 1 (1.2 by default).
+// Grand, "Broad-phase collision detection with CUDA", GPU Gems 3 ch. 32 (2007):
+// a cell that fits the largest object, the baseline.
+//
+// Radii are those of primitive_bounds: for CCD the sphere of the triangle's
+// corners at t0 and t1 (the swept sphere) plus the thickness, for static
+// detection the sphere at t0 plus the thickness. The swept radius is used for
+// CCD because the grid registers swept volumes: a cell sized from t0 shapes
+// alone would force time halving on every moving triangle.
+#pragma once
+
+#include <vector>
+
+#include "libcd/grid/uniform_grid.hpp"
+
+namespace snag {
+
+/// 3·λ·mean(radii); 0 when radii is empty.
+double virtual_subdivision_cell_size(const std::vector<double>& radii, double lambda);
+
+/// 3·max(radii)·(1 + 1e-9): every triangle meets the "radius ≤ size/3" rule,
+/// so none is subdivided (the largest-triangle grid).
+double largest_triangle_cell_size(const std::vector<double>& radii);
+
+/// A grid of the given cell size over [lo, hi]. A cell size that is zero, not
+/// finite, or so small that an axis would need more than 2^20 cells is raised
+/// to (largest extent)/2^20 (or 1 for an empty box), so cell ids fit 64 bits.
+GridSpec make_grid(Vec3 lo, Vec3 hi, double cell_size);
+
+}  // namespace snag

@@ -1,0 +1,118 @@
+// Home and phantom cells, control bits, and the rule that decides in which
+// cell a pair of registered triangles is tested.
+//
+// Grand, "Broad-phase collision detection with CUDA", GPU Gems 3 ch. 32, 2007:
+// an object is registered in every cell it overlaps (at most 2×2×2): its home
+// cell holds its centre, the others are phantom cells; per-object control bits
+// record the types of the cells it overlaps, and a pair is tested only in a
+// cell where one of the two is at home.
+// Wong, Leach, Zambetta, virtual subdivision chapter, section 5.3.3 and
+// Figure 5.8: control bits extended with the centroid cells of sibling child
+// triangles, so that a root pair is tested in one cell only.
+//
+// Control-bit word (32 bits) of a leaf:
+//   bits 0-7   overlap mask: bit T set when the leaf overlaps a cell of type T
+//   bits 8-10  type of the home cell
+//   bits 11-12 number of accepted siblings (0..3)
+//   bits 13-21 their home cell types, 3 bits each
+// The types are a necessary test ("cell c can be in this block only if bit
+// type(c) is set"); the exact test compares cell coordinates, which a leaf
+// also carries (home, block, sibling homes).
+//
+// The test rule (proved in the file comment of broad_phase/virtual_subdivision_grid.hpp):
+// for leaves a and b registered in cell C, let R be the set of cells that are
+//   the home of a or of an accepted sibling of a, and lie in b's block, or
+//   the home of b or of an accepted sibling of b, and lie in a's block.
+// The pair is tested in C iff R is empty (both phantom everywhere they meet:
+// the fallback) or C is the cell of smallest id in R. In every cell of R one
+// of the two roots is registered at home and the other is registered, so a
+// skipped pair is always tested in a cell of smaller id or in a cell of R.
+#pragma once
+
+#include <cstdint>
+
+#include "libcd/core/host_device.hpp"
+#include "libcd/grid/uniform_grid.hpp"
+
+namespace snag {
+
+/// Where a leaf is registered: its home cell, its block of cells, its control
+/// bits, and the home cells of its accepted siblings.
+struct LeafCells {
+  CellCoord home;
+  CellBlock block;
+  std::uint32_t control_bits = 0;
+  std::uint32_t sibling_count = 0;
+  CellCoord sibling_home[3];
+};
+
+/// Overlap mask of a block: bit T set for every cell type T in it.
+SNAG_HD_INLINE std::uint32_t overlap_mask(const CellBlock& b) {
+  std::uint32_t mask = 0;
+  for (int dz = 0; dz < 2; ++dz)
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const CellCoord c{b.lo.x + dx, b.lo.y + dy, b.lo.z + dz};
+        if (c.x <= b.hi.x && c.y <= b.hi.y && c.z <= b.hi.z) mask |= 1u << cell_type(c);
+      }
+  return mask;
+}
+
+/// Builds the control-bit word of a leaf from its cells (sibling fields included).
+SNAG_HD_INLINE std::uint32_t make_control_bits(const LeafCells& cells) {
+  std::uint32_t bits = overlap_mask(cells.block) | (cell_type(cells.home) << 8) | (cells.sibling_count << 11);
+  for (std::uint32_t s = 0; s < cells.sibling_count; ++s) bits |= cell_type(cells.sibling_home[s]) << (13 + 3 * s);
+  return bits;
+}
+
+SNAG_HD_INLINE unsigned control_bits_home_type(std::uint32_t bits) { return (bits >> 8) & 7u; }
+SNAG_HD_INLINE unsigned control_bits_sibling_count(std::uint32_t bits) { return (bits >> 11) & 3u; }
+SNAG_HD_INLINE unsigned control_bits_sibling_type(std::uint32_t bits, unsigned s) { return (bits >> (13 + 3 * s)) & 7u; }
+
+/// True when cell c is one of the cells the leaf is registered in: the
+/// control bits reject most cells, the coordinates decide.
+SNAG_HD_INLINE bool leaf_overlaps_cell(const LeafCells& leaf, CellCoord c) {
+  if (((leaf.control_bits >> cell_type(c)) & 1u) == 0) return false;
+  return block_contains(leaf.block, c);
+}
+
+/// Why a pair of leaves registered in one cell is or is not tested there.
+enum class CellPairVerdict : std::uint8_t {
+  kTest,                  ///< C is the smallest cell of R
+  kTestFallback,          ///< R is empty: both are phantom wherever they meet
+  kSkipControlBits,       ///< tested elsewhere: the smallest cell of R is the home of a or b
+  kSkipExtendedBits,      ///< tested elsewhere: the smallest cell of R is a sibling's home only
+};
+
+/// The test rule above for leaves a and b, both registered in the cell of id cell_id.
+SNAG_HD_INLINE CellPairVerdict cell_pair_verdict(const GridSpec& grid, const LeafCells& a, const LeafCells& b,
+                                                 std::uint64_t cell_id) {
+  std::uint64_t best = ~std::uint64_t(0);
+  bool best_is_own_home = false;
+  const LeafCells* sides[2] = {&a, &b};
+  for (int s = 0; s < 2; ++s) {
+    const LeafCells& self = *sides[s];
+    const LeafCells& other = *sides[1 - s];
+    if (leaf_overlaps_cell(other, self.home)) {
+      const std::uint64_t id = grid_cell_id(grid, self.home);
+      if (id < best || (id == best && !best_is_own_home)) {
+        best = id;
+        best_is_own_home = true;
+      }
+    }
+    for (std::uint32_t k = 0; k < self.sibling_count; ++k) {
+      if (leaf_overlaps_cell(other, self.sibling_home[k])) {
+        const std::uint64_t id = grid_cell_id(grid, self.sibling_home[k]);
+        if (id < best) {
+          best = id;
+          best_is_own_home = false;
+        }
+      }
+    }
+  }
+  if (best == ~std::uint64_t(0)) return CellPairVerdict::kTestFallback;
+  if (best == cell_id) return CellPairVerdict::kTest;
+  return best_is_own_home ? CellPairVerdict::kSkipControlBits : CellPairVerdict::kSkipExtendedBits;
+}
+
+}  // namespace snag
