@@ -382,12 +382,22 @@ MeshData parse_ply(std::string_view bytes, const std::string& file) {
             }
             at += size_of(element.properties[k].type);
           }
+          const bool plain_floats = !reader.big_endian && type[0] == Type::float32 && type[1] == Type::float32 &&
+                                    type[2] == Type::float32;
           for (std::size_t i = 0; i < vertex_count; ++i) {
             const std::size_t base = reader.at + i * stride;
             Vec3& p = mesh.positions[i];
-            p.x = reader.real(type[0], base + offset[0]);
-            p.y = reader.real(type[1], base + offset[1]);
-            p.z = reader.real(type[2], base + offset[2]);
+            if (plain_floats) {
+              float x, y, z;
+              std::memcpy(&x, reader.base + base + offset[0], 4);
+              std::memcpy(&y, reader.base + base + offset[1], 4);
+              std::memcpy(&z, reader.base + base + offset[2], 4);
+              p = Vec3{x, y, z};
+            } else {
+              p.x = reader.real(type[0], base + offset[0]);
+              p.y = reader.real(type[1], base + offset[1]);
+              p.z = reader.real(type[2], base + offset[2]);
+            }
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
               reader.fail(base, "vertex " + std::to_string(i) + ": coordinate is not finite (NaN or Inf)");
             }
@@ -396,7 +406,27 @@ MeshData parse_ply(std::string_view bytes, const std::string& file) {
         reader.at += stride * static_cast<std::size_t>(element.count);
         continue;
       }
-      for (std::uint64_t i = 0; i < element.count; ++i) {
+      const bool plain_face_list = is_face && element.properties.size() == 1 && size_of(element.properties[0].count_type) == 1 &&
+                                   (element.properties[0].type == Type::int32 || element.properties[0].type == Type::uint32);
+      std::uint64_t first_general = 0;
+      if (plain_face_list) {
+        // The common layout (one uchar count, int indices, mostly triangles)
+        // in a tight loop; anything else falls through to the general walk.
+        for (; first_general < element.count; ++first_general) {
+          if (reader.size - reader.at < 13 || reader.base[reader.at] != 3) break;
+          Triangle t;
+          bool in_range = true;
+          for (int c = 0; c < 3; ++c) {
+            const long long id = reader.integer(element.properties[0].type, reader.at + 1 + 4 * c);
+            in_range = in_range && id >= 0 && static_cast<std::uint64_t>(id) < vertex_count;
+            t[c] = static_cast<Index>(id);
+          }
+          if (!in_range) break;  // reported by the general walk below
+          triangles.push_back(t);
+          reader.at += 13;
+        }
+      }
+      for (std::uint64_t i = first_general; i < element.count; ++i) {
         const std::size_t instance_start = reader.at;
         auto fail = [&](const std::string& message) { reader.fail(instance_start, message); };
         for (std::size_t k = 0; k < element.properties.size(); ++k) {

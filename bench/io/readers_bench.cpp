@@ -3,6 +3,7 @@
 // open_cache. With assimp, its OBJ import of the same file is the baseline.
 // Files are written once to a temporary directory; reads hit the page cache.
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>

@@ -143,6 +143,21 @@ TEST(PlyReader, RejectsIndicesOutOfRange) {
                      "i.ply:13: face 0: vertex index -1 out of range");
 }
 
+TEST(PlyReader, ChecksIndicesOfPlainTriangleLists) {
+  // One uchar count and int indices per face: the layout most tools write.
+  std::string bytes =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 3\nproperty list uchar int vertex_indices\nend_header\n";
+  for (float value : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put<float>(bytes, value);
+  for (int face = 0; face < 3; ++face) {
+    put<std::uint8_t>(bytes, 3);
+    for (std::int32_t id : {0, 1, face == 1 ? 3 : 2}) put<std::int32_t>(bytes, id);
+  }
+  expect_input_error([&] { parse_ply(bytes, "p.ply"); }, "face 1: vertex index 3 out of range");
+  bytes[bytes.size() - 26 + 9] = 2;  // repair face 1's last index
+  EXPECT_EQ(parse_ply(bytes, "p.ply").objects[0].triangles, (std::vector<Triangle>{{0, 1, 2}, {0, 1, 2}, {0, 1, 2}}));
+}
+
 TEST(PlyReader, RejectsFacesOfFewerThanThreeVertices) {
   expect_input_error([] { parse_ply("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
