@@ -26,11 +26,11 @@ TEST(CcdSweptBox, TouchingBoxesOverlapAndSeparatedOnesDoNot) {
 TEST(CcdSweptBox, NeverRejectsAPairTheKernelsFindInContact) {
   std::mt19937_64 rng(17);
   int contacts = 0;
-  for (int i = 0; i < 3000; ++i) {
+  for (int i = 0; i < 1000; ++i) {
     Vec3 x[8];
     for (Vec3& point : x) point = test::random_point(rng, 1.0);
     for (int k : {0, 4}) x[k] = x[k] + Vec3{1.2, 0, 0};  // a near-miss offset keeps both outcomes common
-    const CcdSettings settings{0.05};
+    const CcdSettings settings;
     const CcdResult vf = vertex_face_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings);
     const CcdResult ee = edge_edge_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings);
     if (vf.answer != CcdAnswer::kNo) {
@@ -42,7 +42,7 @@ TEST(CcdSweptBox, NeverRejectsAPairTheKernelsFindInContact) {
       EXPECT_TRUE(edge_edge_swept_overlap(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings.thickness));
     }
   }
-  EXPECT_GT(contacts, 100);
+  EXPECT_GT(contacts, 50);
 }
 
 }  // namespace
