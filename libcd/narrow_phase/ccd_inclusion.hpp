@@ -35,6 +35,10 @@
 //     T_k or all below -T_k, where T_k = nextafter(fl(d + E_k), +inf) >= d + E_k
 //     (d the thickness). Then |F_k| > d over the whole box, and since
 //     |F_k| <= |F|_2 the Euclidean distance exceeds d: no contact in the box.
+//     For d > 0 a box is also excluded when the corner box enlarged by E_k
+//     lies further than d from the origin (a lower bound of its squared
+//     distance, rounded down, above d^2 rounded up): the ball of radius d is
+//     rounder than the cube [-d, d]^3, which matters near grazing contacts.
 // Inputs are required finite with M_k <= 1e60 (else kUncertain) so that no
 // intermediate value of the kernels' certificates can overflow.
 //
@@ -53,7 +57,9 @@
 //    coplanarity cubic and strict inside conditions over [ta, tb], that the
 //    primitives touch at some time in [ta, tb] (intermediate value theorem);
 //  - thickness d > 0: a corner of a box whose value, enlarged by E_k, lies in
-//    the ball of radius d is a configuration within distance d.
+//    the ball of radius d is a configuration within distance d. Found on a
+//    box wider in time than the tolerance, it bounds the earliest time from
+//    above, and the search goes on until the boxes left start after it.
 #pragma once
 
 #include <math.h>
@@ -75,6 +81,8 @@ constexpr int kMaxLevel = 31;
 constexpr double kCornerErrorFactor = 2.7e-15;
 /// Covers underflow (see the file comment, step 3).
 constexpr double kUnderflowSlack = 1e-300;
+/// Weight of the time parameter when choosing which parameter to split.
+constexpr double kTimeSplitBias = 4;
 /// Largest input coordinate magnitude the kernels accept.
 constexpr double kMaxMagnitude = 1e60;
 
@@ -173,19 +181,27 @@ SNAG_HD CcdResult inclusion_ccd(const Contact& contact, const CcdSettings& setti
     threshold[k] = round_up(d + error[k]);
     largest_error = error[k] > largest_error ? error[k] : largest_error;
   }
-  const double d2_lo = round_down(d * d);
+  const double d2_lo = round_down(d * d), d2_hi = round_up(d * d);
 
   BoxHeap heap;
   heap.push(Box{0, 0, 0, 0, 0, 0});
   double stuck_lo = 2, stuck_hi = -1;
   double certified_t_lo = -1, certified_t_hi = -1;  // last time interval tried
+  // A contact proven at time proven_hi (> 1: none yet) while the search goes
+  // on to narrow the earliest time from below.
+  double proven_hi = 2;
+  const auto proven = [&proven_hi](double lo, double hi) {
+    return make_result(CcdAnswer::kYes, lo < proven_hi ? lo : proven_hi, hi);
+  };
   for (int iteration = 0; heap.size > 0; ++iteration) {
     if (iteration >= settings.max_iterations) {
       const double next = lower(heap.boxes[0].t_num, heap.boxes[0].t_level);
+      if (proven_hi <= 1) return proven(stuck_lo < next ? stuck_lo : next, proven_hi);
       return make_result(CcdAnswer::kUncertain, stuck_lo < next ? stuck_lo : next, 1);
     }
     const Box box = heap.pop();
     const double t[2] = {lower(box.t_num, box.t_level), upper(box.t_num, box.t_level)};
+    if (t[0] >= proven_hi) return proven(stuck_lo < t[0] ? stuck_lo : t[0], proven_hi);
     const double u[2] = {lower(box.u_num, box.u_level), upper(box.u_num, box.u_level)};
     const double v[2] = {lower(box.v_num, box.v_level), upper(box.v_num, box.v_level)};
     if (contact.outside_domain(u[0], v[0])) continue;
@@ -193,6 +209,7 @@ SNAG_HD CcdResult inclusion_ccd(const Contact& contact, const CcdSettings& setti
     Vec3 f[8];
     contact.corner_values(t, u, v, f);
     bool excluded = false;
+    double gap_squared = 0;  // lower bound of the squared distance of the enlarged box to the origin
     for (int k = 0; k < 3 && !excluded; ++k) {
       double lo = f[0][k], hi = f[0][k];
       for (int i = 1; i < 8; ++i) {
@@ -200,29 +217,33 @@ SNAG_HD CcdResult inclusion_ccd(const Contact& contact, const CcdSettings& setti
         hi = f[i][k] > hi ? f[i][k] : hi;
       }
       excluded = lo > threshold[k] || hi < -threshold[k];
+      const double gap = lo > 0 ? round_down(lo - error[k]) : round_down(-hi - error[k]);
+      if (gap > 0) gap_squared = round_down(gap_squared + round_down(gap * gap));
     }
-    if (excluded) continue;
+    if (excluded || (d > 0 && gap_squared > d2_hi)) continue;
 
     const double earliest = stuck_lo < t[0] ? stuck_lo : t[0];
+    const double t_width = t[1] - t[0];
+    const bool t_narrow = t_width <= settings.time_tolerance || box.t_level >= kMaxLevel;
     if (d > 0) {
+      // Corners at t[0] come first, so the first one found is the earliest.
       for (int i = 0; i < 8; ++i) {
         if (contact.corner_in_domain(u[(i >> 1) & 1], v[i & 1]) && corner_within(f[i], error, d2_lo)) {
-          // Corners at t[0] come first, so this is the earliest proven time.
-          return make_result(CcdAnswer::kYes, earliest, t[i >> 2]);
+          if (t_narrow) return proven(earliest, t[i >> 2] < proven_hi ? t[i >> 2] : proven_hi);
+          proven_hi = t[i >> 2] < proven_hi ? t[i >> 2] : proven_hi;
+          break;
         }
       }
     }
-    const double t_width = t[1] - t[0];
-    const bool t_narrow = t_width <= settings.time_tolerance || box.t_level >= kMaxLevel;
     if (t_narrow && !(t[0] == certified_t_lo && t[1] == certified_t_hi)) {
       certified_t_lo = t[0];
       certified_t_hi = t[1];
-      if (contact.certify_crossing(t[0], t[1])) return make_result(CcdAnswer::kYes, earliest, t[1]);
+      if (contact.certify_crossing(t[0], t[1])) return proven(earliest, t[1] < proven_hi ? t[1] : proven_hi);
       // The crossing may sit too close to an end of the interval for its sign
       // to be resolved there; a wider interval still bounds the time.
       const double ta = t[0] - t_width > 0 ? t[0] - t_width : 0;
       const double tb = t[1] + t_width < 1 ? t[1] + t_width : 1;
-      if (contact.certify_crossing(ta, tb)) return make_result(CcdAnswer::kYes, earliest, tb);
+      if (contact.certify_crossing(ta, tb)) return proven(earliest, tb < proven_hi ? tb : proven_hi);
     }
 
     // Split the parameter whose change moves F the most.
@@ -235,6 +256,8 @@ SNAG_HD CcdResult inclusion_ccd(const Contact& contact, const CcdSettings& setti
       spread_u = du > spread_u ? du : spread_u;
       spread_v = dv > spread_v ? dv : spread_v;
     }
+    // Time is favoured: narrowing it is what bounds the earliest contact.
+    spread_t *= kTimeSplitBias;
     if (t_narrow) spread_t = -1;
     if (u[1] - u[0] <= settings.time_tolerance || box.u_level >= kMaxLevel) spread_u = -1;
     if (v[1] - v[0] <= settings.time_tolerance || box.v_level >= kMaxLevel) spread_v = -1;
@@ -260,9 +283,11 @@ SNAG_HD CcdResult inclusion_ccd(const Contact& contact, const CcdSettings& setti
       first.v_level = second.v_level = static_cast<uint8_t>(box.v_level + 1);
     }
     if (!heap.push(first) || !heap.push(second)) {
+      if (proven_hi <= 1) return proven(earliest, proven_hi);
       return make_result(CcdAnswer::kUncertain, earliest, 1);
     }
   }
+  if (proven_hi <= 1) return proven(stuck_lo, proven_hi);
   if (stuck_hi >= 0) return make_result(CcdAnswer::kUncertain, stuck_lo, stuck_hi);
   return make_result(CcdAnswer::kNo, 1, 1);
 }

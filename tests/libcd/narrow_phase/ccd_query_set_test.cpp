@@ -73,10 +73,10 @@ TEST(CcdQuerySet, NeverMissesAContactNorProvesAFalseOne) {
   EXPECT_EQ(ee.toi_mismatch, 0);
   // Measured with the default settings; a regression makes more queries
   // undecided and sends them to exact arithmetic.
-  EXPECT_LE(vf.false_positives, 100000);
-  EXPECT_LE(ee.false_positives, 100000);
-  EXPECT_LE(vf.uncertain, 100000);
-  EXPECT_LE(ee.uncertain, 100000);
+  EXPECT_LE(vf.false_positives, 85);
+  EXPECT_LE(ee.false_positives, 137);
+  EXPECT_LE(vf.uncertain, 162);
+  EXPECT_LE(ee.uncertain, 234);
 }
 
 }  // namespace
