@@ -25,8 +25,12 @@ void add_cache_options(CLI::App& app, CacheArguments& arguments) {
                  "animated file (.gltf, .glb, .fbx, .dae). Several inputs become several objects.")
       ->required();
   app.add_option("-t,--topology", arguments.topologies,
-                 "Topology mesh for each point cache input, in order");
-  app.add_option("-n,--name", arguments.names, "Object name for each input, in order");
+                 "Topology mesh for each point cache input, in order (one value per -t)")
+      ->allow_extra_args(false)
+      ->take_all();
+  app.add_option("-n,--name", arguments.names, "Object name for each input, in order (one value per -n)")
+      ->allow_extra_args(false)
+      ->take_all();
   app.add_option("-f,--frames", arguments.frames, "Frames to use, 0-based and inclusive: A:B or A:B:STEP or A:");
   app.add_option("--fps", arguments.sample_rate, "Animated files: samples per second (default: the file's rate)")
       ->check(CLI::PositiveNumber);
