@@ -31,6 +31,14 @@
 #include "libcd/geometry/expansion.hpp"
 #include "libcd/geometry/vec3.hpp"
 
+// The exact stages run rarely: keep them out of line so that the filtered
+// fast paths stay small where they are inlined.
+#if defined(__CUDACC__)
+#define SNAG_EXACT_STAGE __host__ __device__ __noinline__
+#else
+#define SNAG_EXACT_STAGE inline __attribute__((noinline, cold))
+#endif
+
 namespace snag {
 
 /// How often the predicates ran and how often the floating-point filter could
@@ -58,7 +66,7 @@ SNAG_HD_INLINE void count(PredicateCounters* counters, bool exact) {
 
 /// Exact sign of the orient2d determinant expanded from the coordinates:
 /// (ax*by - bx*ay) + (bx*cy - cx*by) + (cx*ay - ax*cy).
-SNAG_HD_INLINE int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
+SNAG_EXACT_STAGE int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
   double ab[4], bc[4], ca[4], ab_bc[8], det[12];
   expansion::two_products_diff(ax, by, bx, ay, ab);
   expansion::two_products_diff(bx, cy, cx, by, bc);
@@ -72,7 +80,7 @@ SNAG_HD_INLINE int orient2d_exact(double ax, double ay, double bx, double by, do
 /// det[[a,1],[b,1],[c,1],[d,1]] into 2x2 xy-minors of the coordinates:
 /// az*M(bcd) - bz*M(acd) + cz*M(abd) - dz*M(abc), where
 /// M(pqr) = pq + qr + rp and pq = px*qy - qx*py.
-SNAG_HD_INLINE int orient3d_exact(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+SNAG_EXACT_STAGE int orient3d_exact(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
   double ab[4], bc[4], cd[4], da[4], ac[4], ca[4], bd[4], db[4];
   expansion::two_products_diff(a.x, b.y, b.x, a.y, ab);
   expansion::two_products_diff(b.x, c.y, c.x, b.y, bc);

@@ -144,7 +144,8 @@ void expect_same_as_cgal(const Mesh& mesh, const std::string& name) {
   for (const Vec3& p : soup.positions) ASSERT_TRUE(is_in_exact_range(p));
   const CgalReport cgal = cgal_self_intersections(mesh);
   const OurReport ours = our_self_intersections(soup);
-  std::cout << "[" << name << "] faces " << soup.triangles.size() << ", candidate pairs " << ours.candidate_pairs
+  std::cout << "[" << name << "] vertices " << soup.positions.size() << ", faces " << soup.triangles.size()
+            << ", candidate pairs " << ours.candidate_pairs
             << ", intersecting pairs ours " << ours.pairs.size() << " / CGAL " << cgal.pairs.size()
             << ", degenerate faces ours " << ours.degenerate.size() << " / CGAL " << cgal.degenerate.size()
             << ", predicates " << ours.counters.calls << " (exact stage " << ours.counters.exact << "), "
