@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Broad phase benchmark: VSS grid vs largest-triangle grid vs brute force"};
   const std::string meshes = std::string(SNAG_SHARED_DATA_DIR) + "/meshes/";
   std::string t0 = meshes + "cloth_ball92.ply", t1 = meshes + "cloth_ball93.ply", json_path;
-  int runs = 5;
+  int runs = 3;
   bool brute = false;
   snag::BroadPhaseSettings settings;
   app.add_option("--t0", t0, "binary PLY of the first frame");
