@@ -42,8 +42,9 @@
 // home and the other registered (the scan keeps a home registration in every
 // run, and the redirect cells are homes of accepted leaves of the same unit,
 // lying in the other leaf's block); induction on cell id ends in a test. In a
-// cell where both are phantom, the pair is tested if R is empty, else one
-// redirect leads to a cell with one at home. The CCD output is then the
+// cell where both are phantom, one redirect leads to a cell with one at home
+// if R is not empty; if it is empty, the pair is tested in the low corner of
+// the blocks' intersection or passed on to that corner, a cell of smaller id. The CCD output is then the
 // representative-triangle features of T, culled by vertex/face and edge/edge
 // swept DOPs; the static output is T itself. For the largest-triangle grid
 // no triangle is split and T = T_root exactly.

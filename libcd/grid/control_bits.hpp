@@ -23,10 +23,14 @@
 // for leaves a and b registered in cell C, let R be the set of cells that are
 //   the home of a or of an accepted sibling of a, and lie in b's block, or
 //   the home of b or of an accepted sibling of b, and lie in a's block.
-// The pair is tested in C iff R is empty (both phantom everywhere they meet:
-// the fallback) or C is the cell of smallest id in R. In every cell of R one
-// of the two roots is registered at home and the other is registered, so a
-// skipped pair is always tested in a cell of smaller id or in a cell of R.
+// The pair is tested in C iff C is the cell of smallest id in R, or R is
+// empty (both phantom wherever they meet: the fallback) and C is the low
+// corner of the intersection of the two blocks (its cell of smallest id). In
+// every cell of R one of the two roots is registered at home and the other is
+// registered; both are registered in the corner cell; so a skipped pair is
+// always passed on to a cell of R or to a cell of smaller id, and some cell
+// tests it. For two single leaves (no siblings) the pair is tested in exactly
+// one of the cells they share.
 #pragma once
 
 #include <cstdint>
@@ -79,7 +83,7 @@ SNAG_HD_INLINE bool leaf_overlaps_cell(const LeafCells& leaf, CellCoord c) {
 /// Why a pair of leaves registered in one cell is or is not tested there.
 enum class CellPairVerdict : std::uint8_t {
   kTest,                  ///< C is the smallest cell of R
-  kTestFallback,          ///< R is empty: both are phantom wherever they meet
+  kTestFallback,          ///< R is empty (both phantom wherever they meet) and C is the blocks' low corner
   kSkipControlBits,       ///< tested elsewhere: the smallest cell of R is the home of a or b
   kSkipExtendedBits,      ///< tested elsewhere: the smallest cell of R is a sibling's home only
 };
@@ -110,7 +114,12 @@ SNAG_HD_INLINE CellPairVerdict cell_pair_verdict(const GridSpec& grid, const Lea
       }
     }
   }
-  if (best == ~std::uint64_t(0)) return CellPairVerdict::kTestFallback;
+  if (best == ~std::uint64_t(0)) {
+    const CellCoord corner{a.block.lo.x > b.block.lo.x ? a.block.lo.x : b.block.lo.x,
+                           a.block.lo.y > b.block.lo.y ? a.block.lo.y : b.block.lo.y,
+                           a.block.lo.z > b.block.lo.z ? a.block.lo.z : b.block.lo.z};
+    return grid_cell_id(grid, corner) == cell_id ? CellPairVerdict::kTestFallback : CellPairVerdict::kSkipControlBits;
+  }
   if (best == cell_id) return CellPairVerdict::kTest;
   return best_is_own_home ? CellPairVerdict::kSkipControlBits : CellPairVerdict::kSkipExtendedBits;
 }

@@ -1,0 +1,255 @@
+// Tests for broad_phase/: every grid against brute-force oracles.
+//   T_leaf ⊆ VSS ⊆ T_root (virtual_subdivision_grid.hpp), largest-triangle
+//   grid == brute force, outputs sorted and unique, no VF/EE pair sharing a
+//   vertex, results independent of the thread count; on random soups with
+//   very uneven triangles, fast movers, and the reference meshes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <string>
+
+#include "bench/broad_phase/binary_ply.hpp"
+#include "libcd/broad_phase/brute_force.hpp"
+#include "libcd/broad_phase/virtual_subdivision_grid.hpp"
+#include "libcd/core/error.hpp"
+
+namespace snag {
+namespace {
+
+struct Soup {
+  Scene scene;
+  std::vector<Vec3> x_t0, x_t1;
+};
+
+// n triangles of very uneven sizes: tiny, medium, huge, slivers, degenerate;
+// some share vertices (strips). Moving ones get a random displacement, a few
+// fast movers cross the scene.
+Soup random_soup(unsigned seed, int n, bool moving) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> x;
+  std::vector<Triangle> tris;
+  auto point = [&] { return Vec3{u(rng) * 10, u(rng) * 10, u(rng) * 10}; };
+  for (int k = 0; k < n; ++k) {
+    const Index base = static_cast<Index>(x.size());
+    const double kind = u(rng);
+    const Vec3 c = point();
+    double size = kind < 0.5 ? 0.05 : (kind < 0.85 ? 0.4 : (kind < 0.95 ? 2.5 : 6.0));
+    Vec3 a = c, b = c + Vec3{size * (u(rng) - 0.5), size * (u(rng) - 0.5), size * (u(rng) - 0.5)};
+    Vec3 d = c + Vec3{size * (u(rng) - 0.5), size * (u(rng) - 0.5), size * (u(rng) - 0.5)};
+    if (k % 13 == 5) d = lerp(a, b, 0.3);                       // degenerate (collinear)
+    if (k % 17 == 3) d = a + Vec3{1e-4, 0, 0};                  // thin sliver
+    if (k % 7 == 2 && base >= 3) {                              // share an edge with the previous triangle
+      x.push_back(d);
+      tris.push_back({base - 1, base - 2, base});
+      continue;
+    }
+    x.push_back(a);
+    x.push_back(b);
+    x.push_back(d);
+    tris.push_back({base, base + 1, base + 2});
+  }
+  Soup soup{Scene({make_object("soup", static_cast<Index>(x.size()), tris)}), x, x};
+  if (moving) {
+    for (std::size_t v = 0; v < x.size(); ++v) {
+      soup.x_t1[v] = x[v] + Vec3{0.3 * (u(rng) - 0.5), 0.3 * (u(rng) - 0.5), 0.3 * (u(rng) - 0.5)};
+    }
+    for (const Triangle& t : tris) {
+      if (u(rng) < 0.03) {  // a fast mover: the whole triangle crosses the scene
+        const Vec3 jump{8 * (u(rng) - 0.5), 8 * (u(rng) - 0.5), 8};
+        for (Index v : t) soup.x_t1[v] = x[v] + jump;
+      }
+    }
+  }
+  return soup;
+}
+
+bool shares_vertex(const Scene& scene, const VertexFaceCandidate& c) {
+  const Triangle& t = scene.triangles()[c.face];
+  return t[0] == c.vertex || t[1] == c.vertex || t[2] == c.vertex;
+}
+bool shares_vertex(const Scene& scene, const EdgeEdgeCandidate& c) {
+  const Edge& a = scene.edges()[c.edge_a];
+  const Edge& b = scene.edges()[c.edge_b];
+  return a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1];
+}
+
+template <class T>
+bool sorted_unique(const std::vector<T>& v) {
+  for (std::size_t i = 1; i < v.size(); ++i)
+    if (!(v[i - 1] < v[i])) return false;
+  return true;
+}
+
+template <class T>
+bool includes(const std::vector<T>& big, const std::vector<T>& small) {
+  return std::includes(big.begin(), big.end(), small.begin(), small.end());
+}
+
+struct CcdSets {
+  std::vector<VertexFaceCandidate> vf;
+  std::vector<EdgeEdgeCandidate> ee;
+};
+
+// Checks T_leaf ⊆ VSS ⊆ T_root for CCD and the largest-triangle grid == T_root.
+void check_ccd_against_oracles(const Soup& soup, const BroadPhaseSettings& settings) {
+  VirtualSubdivisionGrid vss(true), largest(false);
+  BruteForceBroadPhase brute;
+  vss.build(soup.scene, settings);
+  largest.build(soup.scene, settings);
+  brute.build(soup.scene, settings);
+  CcdSets a, l, b, leaf;
+  vss.detect_ccd(soup.x_t0, soup.x_t1, a.vf, a.ee);
+  largest.detect_ccd(soup.x_t0, soup.x_t1, l.vf, l.ee);
+  brute.detect_ccd(soup.x_t0, soup.x_t1, b.vf, b.ee);
+
+  const std::vector<TrianglePair> leaf_pairs = brute_force_leaf_triangle_pairs(vss.leaves(), vss.bounds().triangles);
+  FeatureCounts counts;
+  representative_feature_pairs(soup.scene, assign_representative_triangles(soup.scene), vss.bounds(), leaf_pairs,
+                               leaf.vf, leaf.ee, counts);
+
+  for (const CcdSets* s : {&a, &l, &b}) {
+    EXPECT_TRUE(sorted_unique(s->vf));
+    EXPECT_TRUE(sorted_unique(s->ee));
+    for (const auto& c : s->vf) ASSERT_FALSE(shares_vertex(soup.scene, c));
+    for (const auto& c : s->ee) ASSERT_FALSE(shares_vertex(soup.scene, c));
+    for (const auto& c : s->ee) ASSERT_LT(c.edge_a, c.edge_b);
+  }
+  EXPECT_TRUE(includes(a.vf, leaf.vf)) << "VSS misses a VF pair of overlapping leaves";
+  EXPECT_TRUE(includes(a.ee, leaf.ee)) << "VSS misses an EE pair of overlapping leaves";
+  EXPECT_TRUE(includes(b.vf, a.vf));
+  EXPECT_TRUE(includes(b.ee, a.ee));
+  EXPECT_EQ(l.vf.size(), b.vf.size());
+  EXPECT_TRUE(l.vf == b.vf);
+  EXPECT_TRUE(l.ee == b.ee);
+  EXPECT_GT(leaf.vf.size() + leaf.ee.size(), 0u);  // the scenes do have candidates
+  EXPECT_GT(vss.stats().triangles_subdivided, 0u);
+  EXPECT_EQ(largest.stats().triangles_subdivided, 0u);
+  EXPECT_LE(vss.stats().triangle_pairs + vss.stats().duplicate_root_pair_tests, vss.stats().tests_after_control_bits);
+}
+
+TEST(VirtualSubdivisionGrid, CcdContainsLeafOracleOnUnevenMovingSoups) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const Soup soup = random_soup(seed, 300, true);
+    check_ccd_against_oracles(soup, BroadPhaseSettings{});
+  }
+}
+
+TEST(VirtualSubdivisionGrid, FastMoversForceTimeHalving) {
+  const Soup soup = random_soup(9, 300, true);
+  VirtualSubdivisionGrid vss;
+  vss.build(soup.scene, {});
+  CcdSets s;
+  vss.detect_ccd(soup.x_t0, soup.x_t1, s.vf, s.ee);
+  EXPECT_GT(vss.stats().time_halvings, 0u);
+  check_ccd_against_oracles(soup, BroadPhaseSettings{});
+}
+
+TEST(VirtualSubdivisionGrid, CcdWithThicknessContainsLeafOracle) {
+  BroadPhaseSettings settings;
+  settings.thickness = 0.05;
+  check_ccd_against_oracles(random_soup(4, 250, true), settings);
+}
+
+TEST(VirtualSubdivisionGrid, StaticContainsLeafOracleAndLargestGridEqualsBruteForce) {
+  for (unsigned seed : {5u, 6u}) {
+    const Soup soup = random_soup(seed, 400, false);
+    VirtualSubdivisionGrid vss(true), largest(false);
+    BruteForceBroadPhase brute;
+    for (BroadPhase* p : std::initializer_list<BroadPhase*>{&vss, &largest, &brute}) p->build(soup.scene, {});
+    std::vector<TrianglePair> a, l, b;
+    vss.detect_static(soup.x_t0, a);
+    largest.detect_static(soup.x_t0, l);
+    brute.detect_static(soup.x_t0, b);
+    const std::vector<TrianglePair> leaf = brute_force_leaf_triangle_pairs(vss.leaves(), vss.bounds().triangles);
+    EXPECT_TRUE(sorted_unique(a));
+    EXPECT_TRUE(includes(a, leaf));
+    EXPECT_TRUE(includes(b, a));
+    EXPECT_TRUE(l == b);
+    EXPECT_GT(leaf.size(), 0u);
+    EXPECT_LT(a.size(), b.size()) << "subdivision should cull some root pairs";
+  }
+}
+
+TEST(VirtualSubdivisionGrid, ResultsDoNotDependOnThreadCount) {
+  const Soup soup = random_soup(8, 400, true);
+  BroadPhaseSettings one, two;
+  one.threads = 1;
+  two.threads = 2;
+  VirtualSubdivisionGrid a, b;
+  a.build(soup.scene, one);
+  b.build(soup.scene, two);
+  CcdSets sa, sb;
+  a.detect_ccd(soup.x_t0, soup.x_t1, sa.vf, sa.ee);
+  b.detect_ccd(soup.x_t0, soup.x_t1, sb.vf, sb.ee);
+  EXPECT_TRUE(sa.vf == sb.vf);
+  EXPECT_TRUE(sa.ee == sb.ee);
+  EXPECT_EQ(a.stats().tests, b.stats().tests);
+  EXPECT_EQ(a.stats().duplicate_root_pair_tests, b.stats().duplicate_root_pair_tests);
+  EXPECT_EQ(a.stats().removed_by_extended_control_bits, b.stats().removed_by_extended_control_bits);
+}
+
+TEST(VirtualSubdivisionGrid, RejectsPositionsOfTheWrongSize) {
+  const Soup soup = random_soup(1, 10, false);
+  VirtualSubdivisionGrid vss;
+  std::vector<TrianglePair> pairs;
+  EXPECT_THROW(vss.detect_static(soup.x_t0, pairs), UsageError);
+  vss.build(soup.scene, {});
+  std::vector<Vec3> short_positions(soup.x_t0.begin(), soup.x_t0.end() - 1);
+  EXPECT_THROW(vss.detect_static(short_positions, pairs), UsageError);
+  BroadPhaseSettings bad;
+  bad.lambda = 0.9;
+  EXPECT_THROW(vss.build(soup.scene, bad), UsageError);
+}
+
+Soup load_pair(const std::string& t0, const std::string& t1) {
+  const std::string dir = std::string(SNAG_SHARED_DATA_DIR) + "/meshes/";
+  bench::PlyMesh a = bench::read_binary_ply(dir + t0);
+  bench::PlyMesh b = bench::read_binary_ply(dir + t1);
+  const Index n = static_cast<Index>(a.vertices.size());
+  return Soup{Scene({make_object(t0, n, a.triangles)}), a.vertices, b.vertices};
+}
+
+TEST(VirtualSubdivisionGrid, ThickClothStepMatchesOracles) {
+  const Soup soup = load_pair("thick-cloth/t0.ply", "thick-cloth/t1.ply");
+  VirtualSubdivisionGrid vss(true), largest(false);
+  BruteForceBroadPhase brute;
+  for (BroadPhase* p : std::initializer_list<BroadPhase*>{&vss, &largest, &brute}) p->build(soup.scene, {});
+  CcdSets a, l, b, leaf;
+  vss.detect_ccd(soup.x_t0, soup.x_t1, a.vf, a.ee);
+  largest.detect_ccd(soup.x_t0, soup.x_t1, l.vf, l.ee);
+  brute.detect_ccd(soup.x_t0, soup.x_t1, b.vf, b.ee);
+  FeatureCounts counts;
+  representative_feature_pairs(soup.scene, assign_representative_triangles(soup.scene), vss.bounds(),
+                               brute_force_leaf_triangle_pairs(vss.leaves(), vss.bounds().triangles), leaf.vf,
+                               leaf.ee, counts);
+  EXPECT_TRUE(includes(a.vf, leaf.vf));
+  EXPECT_TRUE(includes(a.ee, leaf.ee));
+  EXPECT_TRUE(includes(b.vf, a.vf));
+  EXPECT_TRUE(includes(b.ee, a.ee));
+  EXPECT_TRUE(l.vf == b.vf);
+  EXPECT_TRUE(l.ee == b.ee);
+  EXPECT_GT(a.vf.size(), 0u);
+}
+
+TEST(VirtualSubdivisionGrid, StaticMeshesMatchOracles) {
+  for (const char* name : {"bunny.ply", "cube.ply", "two-cubes-far.ply", "two-cubes-close.ply",
+                           "two-cubes-intersecting.ply"}) {
+    const Soup soup = load_pair(name, name);
+    VirtualSubdivisionGrid vss(true), largest(false);
+    BruteForceBroadPhase brute;
+    for (BroadPhase* p : std::initializer_list<BroadPhase*>{&vss, &largest, &brute}) p->build(soup.scene, {});
+    std::vector<TrianglePair> a, l, b;
+    vss.detect_static(soup.x_t0, a);
+    largest.detect_static(soup.x_t0, l);
+    brute.detect_static(soup.x_t0, b);
+    const std::vector<TrianglePair> leaf = brute_force_leaf_triangle_pairs(vss.leaves(), vss.bounds().triangles);
+    EXPECT_TRUE(includes(a, leaf)) << name;
+    EXPECT_TRUE(includes(b, a)) << name;
+    EXPECT_TRUE(l == b) << name;
+  }
+}
+
+}  // namespace
+}  // namespace snag

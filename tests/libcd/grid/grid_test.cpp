@@ -1,0 +1,152 @@
+// Tests for grid/: cell mapping, cell types, pair numbering, control bits and
+// the cell pair rule, registration with home priority.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <set>
+
+#include "libcd/grid/cell_size.hpp"
+#include "libcd/grid/control_bits.hpp"
+#include "libcd/grid/pair_index.hpp"
+#include "libcd/grid/uniform_grid.hpp"
+
+namespace snag {
+namespace {
+
+TEST(UniformGrid, CellOfPointIsMonotoneAndClamped) {
+  const GridSpec grid = make_grid({-1, -1, -1}, {1, 1, 1}, 0.3);
+  EXPECT_EQ(grid.dims[0], 7);
+  std::int32_t previous = -1;
+  for (double x = -2; x <= 2; x += 0.001) {
+    const std::int32_t c = grid_axis_cell(grid, x, 0);
+    EXPECT_GE(c, previous);
+    EXPECT_GE(c, 0);
+    EXPECT_LT(c, grid.dims[0]);
+    previous = c;
+  }
+  EXPECT_EQ(grid_axis_cell(grid, -1.0, 0), 0);
+  EXPECT_EQ(grid_axis_cell(grid, -0.7, 0), 1);  // -1 + 0.3 = -0.7 starts cell 1
+}
+
+TEST(UniformGrid, TinyCellSizeIsRaisedSoIdsFit) {
+  const GridSpec grid = make_grid({0, 0, 0}, {1e6, 1, 1}, 1e-9);
+  EXPECT_LE(grid.dims[0], (1 << 20) + 1);
+  const GridSpec flat = make_grid({0, 0, 0}, {0, 0, 0}, 0);
+  EXPECT_EQ(flat.cell_size, 1.0);
+}
+
+TEST(CellType, CellsOfATwoByTwoByTwoBlockHaveDistinctTypes) {
+  for (int x = -3; x < 3; ++x) {
+    const CellBlock block{{x, x + 5, 2 * x}, {x + 1, x + 6, 2 * x + 1}};
+    unsigned seen = 0;
+    for (std::uint64_t k = 0; k < block_cell_count(block); ++k) seen |= 1u << cell_type(block_cell(block, k));
+    EXPECT_EQ(seen, 0xffu);
+    EXPECT_EQ(overlap_mask(block), 0xffu);
+  }
+  const CellBlock line{{4, 2, 2}, {5, 2, 2}};
+  EXPECT_EQ(overlap_mask(line), (1u << 0) | (1u << 1));
+}
+
+TEST(PairIndex, InvertsTheRowByRowNumbering) {
+  const std::uint64_t ns[] = {2, 3, 7, 50};
+  for (std::uint64_t n : ns) {
+    std::uint64_t k = 0;
+    for (std::uint64_t i = 0; i < n; ++i)
+      for (std::uint64_t j = i + 1; j < n; ++j, ++k) {
+        std::uint64_t gi, gj;
+        pair_from_index(n, k, gi, gj);
+        ASSERT_EQ(gi, i);
+        ASSERT_EQ(gj, j);
+      }
+    EXPECT_EQ(k, pair_count(n));
+  }
+  const std::uint64_t big = 3000000;  // rounding of the closed form is corrected
+  const std::uint64_t ks[] = {0, 1, big - 2, big - 1, pair_count(big) - 2, pair_count(big) - 1};
+  for (std::uint64_t k : ks) {
+    std::uint64_t i, j;
+    pair_from_index(big, k, i, j);
+    EXPECT_LT(i, j);
+    EXPECT_LT(j, big);
+    EXPECT_EQ(i * (2 * big - i - 1) / 2 + (j - i - 1), k);
+  }
+}
+
+TEST(PairIndex, WorkItemFindsItsCellAcrossEmptyCells) {
+  const std::uint64_t first[] = {0, 0, 3, 3, 3, 4, 10};
+  const std::uint64_t expected[] = {1, 1, 1, 4, 5, 5, 5, 5, 5, 5};
+  for (std::uint64_t w = 0; w < 10; ++w) EXPECT_EQ(cell_of_work_item(first, 6, w), expected[w]) << w;
+}
+
+LeafCells random_leaf(std::mt19937& rng) {
+  std::uniform_int_distribution<int> pos(0, 4), ext(0, 1);
+  LeafCells leaf;
+  leaf.block.lo = {pos(rng), pos(rng), pos(rng)};
+  leaf.block.hi = {leaf.block.lo.x + ext(rng), leaf.block.lo.y + ext(rng), leaf.block.lo.z + ext(rng)};
+  leaf.home = block_cell(leaf.block, std::uniform_int_distribution<std::uint64_t>(0, block_cell_count(leaf.block) - 1)(rng));
+  leaf.control_bits = make_control_bits(leaf);
+  return leaf;
+}
+
+TEST(ControlBits, EncodeTypesOfHomeBlockAndSiblings) {
+  LeafCells leaf;
+  leaf.block = {{2, 3, 4}, {3, 3, 5}};
+  leaf.home = {3, 3, 4};
+  leaf.sibling_count = 2;
+  leaf.sibling_home[0] = {2, 3, 5};
+  leaf.sibling_home[1] = {7, 8, 9};
+  const std::uint32_t bits = make_control_bits(leaf);
+  EXPECT_EQ(control_bits_home_type(bits), cell_type(leaf.home));
+  EXPECT_EQ(control_bits_sibling_count(bits), 2u);
+  EXPECT_EQ(control_bits_sibling_type(bits, 0), cell_type(leaf.sibling_home[0]));
+  EXPECT_EQ(control_bits_sibling_type(bits, 1), cell_type(leaf.sibling_home[1]));
+  leaf.control_bits = bits;
+  EXPECT_TRUE(leaf_overlaps_cell(leaf, {2, 3, 5}));
+  EXPECT_FALSE(leaf_overlaps_cell(leaf, {4, 3, 5}));  // same type as (2,3,5), outside the block
+}
+
+TEST(ControlBits, SingleLeavesSharingCellsAreTestedInExactlyOneCell) {
+  const GridSpec grid = make_grid({0, 0, 0}, {6, 6, 6}, 1.0);
+  std::mt19937 rng(5);
+  int pairs_sharing = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const LeafCells a = random_leaf(rng), b = random_leaf(rng);
+    int tested = 0, shared = 0;
+    for (std::uint64_t k = 0; k < block_cell_count(a.block); ++k) {
+      const CellCoord c = block_cell(a.block, k);
+      if (!block_contains(b.block, c)) continue;
+      ++shared;
+      const CellPairVerdict v = cell_pair_verdict(grid, a, b, grid_cell_id(grid, c));
+      tested += v == CellPairVerdict::kTest || v == CellPairVerdict::kTestFallback;
+      EXPECT_EQ(v, cell_pair_verdict(grid, b, a, grid_cell_id(grid, c)));  // symmetric
+    }
+    if (shared > 0) {
+      ++pairs_sharing;
+      EXPECT_EQ(tested, 1);
+    }
+  }
+  EXPECT_GT(pairs_sharing, 500);
+}
+
+TEST(ControlBits, SiblingHomeRedirectsTheTestToASmallerCell) {
+  const GridSpec grid = make_grid({0, 0, 0}, {6, 6, 6}, 1.0);
+  LeafCells a;  // a child at home in (2,0,0), its sibling at home in (1,0,0)
+  a.block = {{2, 0, 0}, {2, 0, 0}};
+  a.home = {2, 0, 0};
+  a.sibling_count = 1;
+  a.sibling_home[0] = {1, 0, 0};
+  a.control_bits = make_control_bits(a);
+  LeafCells b;  // spans (1,0,0)-(2,0,0), home in (1,0,0)... at (2,0,0): phantom
+  b.block = {{1, 0, 0}, {2, 0, 0}};
+  b.home = {2, 0, 0};
+  b.control_bits = make_control_bits(b);
+  // In (2,0,0) both are home; the sibling's home (1,0,0) lies in b's block and
+  // has a smaller id: the extended bits move the test there.
+  EXPECT_EQ(cell_pair_verdict(grid, a, b, grid_cell_id(grid, {2, 0, 0})), CellPairVerdict::kSkipExtendedBits);
+  a.sibling_count = 0;
+  a.control_bits = make_control_bits(a);
+  EXPECT_EQ(cell_pair_verdict(grid, a, b, grid_cell_id(grid, {2, 0, 0})), CellPairVerdict::kTest);
+}
+
+}  // namespace
+}  // namespace snag
