@@ -1,0 +1,113 @@
+// DeviceBuffer / PinnedBuffer ownership and DeviceMemoryTracker accounting.
+// The tracker is process-wide: every check works on differences from the
+// bytes held when the test starts.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+#include "gpu_test.hpp"
+#include "libcd/cuda/device_buffer.cuh"
+#include "libcd/cuda/device_memory_tracker.hpp"
+
+namespace snag {
+namespace {
+
+TEST(DeviceMemoryTracker, PeakIsTheLargestHeldSinceReset) {
+  DeviceMemoryTracker& tracker = DeviceMemoryTracker::instance();
+  const std::size_t base = tracker.current_bytes();
+  tracker.reset_peak();
+  tracker.on_allocate(100);
+  tracker.on_allocate(50);
+  tracker.on_free(100);
+  tracker.on_allocate(70);
+  EXPECT_EQ(tracker.current_bytes(), base + 120);
+  EXPECT_EQ(tracker.peak_bytes(), base + 150);
+  tracker.reset_peak();
+  EXPECT_EQ(tracker.peak_bytes(), base + 120);
+  tracker.on_free(50);
+  tracker.on_free(70);
+  EXPECT_EQ(tracker.current_bytes(), base);
+  EXPECT_EQ(tracker.peak_bytes(), base + 120);
+}
+
+using DeviceBufferTest = test::GpuTest;
+
+TEST_F(DeviceBufferTest, PeakCountsEveryLiveBuffer) {
+  DeviceMemoryTracker& tracker = DeviceMemoryTracker::instance();
+  const std::size_t base = tracker.current_bytes();
+  tracker.reset_peak();
+  {
+    DeviceBuffer<double> a(1000);
+    DeviceBuffer<std::int32_t> b(500);
+    EXPECT_EQ(tracker.current_bytes(), base + 8000 + 2000);
+    a.release();
+    EXPECT_EQ(tracker.current_bytes(), base + 2000);
+    EXPECT_EQ(tracker.peak_bytes(), base + 10000);
+
+    b.resize(100);  // shrinking keeps the allocation
+    EXPECT_EQ(b.size(), 100u);
+    EXPECT_EQ(b.capacity(), 500u);
+    EXPECT_EQ(tracker.current_bytes(), base + 2000);
+    b.resize(4000);  // growing reallocates without copying: the old block is freed first
+    EXPECT_EQ(b.capacity(), 4000u);
+    EXPECT_EQ(tracker.current_bytes(), base + 16000);
+    EXPECT_EQ(tracker.peak_bytes(), base + 16000);
+
+    DeviceBuffer<std::int32_t> moved(std::move(b));
+    EXPECT_TRUE(b.empty());
+    EXPECT_EQ(b.data(), nullptr);
+    EXPECT_EQ(moved.size(), 4000u);
+    EXPECT_EQ(tracker.current_bytes(), base + 16000);  // a move neither allocates nor frees
+  }
+  SNAG_CUDA_CHECK(cudaDeviceSynchronize());
+  EXPECT_EQ(tracker.current_bytes(), base);
+  EXPECT_EQ(tracker.peak_bytes(), base + 16000);
+}
+
+TEST_F(DeviceBufferTest, UploadThenDownloadGivesTheSameValues) {
+  std::vector<double> values(12345);
+  std::iota(values.begin(), values.end(), -17.25);
+  DeviceBuffer<double> buffer;
+  buffer.upload(values);
+  EXPECT_EQ(buffer.size(), values.size());
+  EXPECT_EQ(buffer.download(), values);
+}
+
+TEST_F(DeviceBufferTest, FillZeroClearsEveryElement) {
+  DeviceBuffer<std::uint64_t> buffer;
+  buffer.upload(std::vector<std::uint64_t>(777, ~std::uint64_t{0}));
+  buffer.fill_zero();
+  EXPECT_EQ(buffer.download(), std::vector<std::uint64_t>(777, 0));
+}
+
+TEST_F(DeviceBufferTest, UploadsFromPinnedMemoryOnAStream) {
+  cudaStream_t stream = nullptr;
+  SNAG_CUDA_CHECK(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking));
+  {
+    PinnedBuffer<float> staging(4096);
+    for (std::size_t i = 0; i < staging.size(); ++i) staging[i] = 0.5f * static_cast<float>(i);
+    DeviceBuffer<float> buffer(0, stream);
+    buffer.upload(staging.data(), staging.size());
+    PinnedBuffer<float> back(4096);
+    buffer.download(back.data(), back.size());
+    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+    for (std::size_t i = 0; i < back.size(); ++i) ASSERT_EQ(back[i], staging[i]) << "element " << i;
+  }
+  SNAG_CUDA_CHECK(cudaStreamDestroy(stream));
+}
+
+TEST_F(DeviceBufferTest, EmptyBufferHoldsNoMemory) {
+  DeviceMemoryTracker& tracker = DeviceMemoryTracker::instance();
+  const std::size_t base = tracker.current_bytes();
+  DeviceBuffer<double> buffer(0);
+  buffer.upload(std::vector<double>{});
+  EXPECT_EQ(buffer.data(), nullptr);
+  EXPECT_TRUE(buffer.download().empty());
+  EXPECT_EQ(tracker.current_bytes(), base);
+}
+
+}  // namespace
+}  // namespace snag
