@@ -27,7 +27,20 @@ std::string format_label(const std::vector<FrameFile>& files) {
   return extension;
 }
 
+std::unique_ptr<FrameSource> open_listed_frames(const InputSpec& input) {
+  std::vector<FrameFile> files;
+  std::error_code error;
+  for (const std::string& path : input.frame_files) {
+    if (!std::filesystem::exists(path, error)) throw InputError({path}, "no such file");
+    files.push_back({path, static_cast<double>(files.size())});
+  }
+  std::string description = format_label(files) + " frames " + input.frame_files.front() + " ... " +
+                            input.frame_files.back() + " (" + std::to_string(files.size()) + " frames)";
+  return std::make_unique<MeshSequenceSource>(std::move(files), input.name, std::move(description));
+}
+
 std::unique_ptr<FrameSource> open_input(const InputSpec& input, const CacheOptions& options) {
+  if (!input.frame_files.empty()) return open_listed_frames(input);
   const std::string extension = lower_extension(input.path);
   if (!input.topology.empty()) return std::make_unique<PointCacheSource>(input.path, input.topology, input.name);
   if (extension == "pc2" || extension == "mdd") {

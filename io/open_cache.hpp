@@ -25,6 +25,9 @@ struct InputSpec {
   /// Object name override; empty keeps the names the file gives (OBJ o/g
   /// groups, node names) or the file's stem.
   std::string name;
+  /// When not empty: the frames of one mesh sequence, one file each, in this
+  /// order (e.g. a two-frame step t0.ply, t1.ply); `path` is then ignored.
+  std::vector<std::string> frame_files;
 };
 
 /// Which frames to use: first, last (inclusive) and step, as 0-based indices

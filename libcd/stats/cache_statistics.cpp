@@ -4,19 +4,23 @@
 #include <cmath>
 #include <limits>
 
+#include "libcd/bounding_volume/bounding_sphere.hpp"
+#include "libcd/grid/cell_size.hpp"
+#include "libcd/narrow_phase/triangle_triangle.hpp"
+
 namespace snag {
 
 namespace {
 
-// Radius of the triangle's bounding sphere centred at its centroid.
+// The broad phase's static triangle sphere (bounding_volume/bounding_sphere.hpp).
 double sphere_radius(Vec3 a, Vec3 b, Vec3 c) {
-  Vec3 centre = (a + b + c) / 3.0;
-  double r2 = std::max({squared_norm(a - centre), squared_norm(b - centre), squared_norm(c - centre)});
-  return std::sqrt(r2);
+  const Vec3 corners[3] = {a, b, c};
+  return sphere_of_points(corners, 3).radius;
 }
 
-// Loop subdivision halves a triangle's size, so a radius r needs the smallest
-// k with r / 2^k <= limit.
+// Loop subdivision makes four half-size copies of a triangle (the middle one
+// turned by 180 degrees), whose box-centred spheres have half the radius; so a
+// radius r needs the smallest k with r / 2^k <= limit.
 int levels_needed(double radius, double limit) {
   int levels = 0;
   while (radius > limit && levels < 64) {
@@ -28,8 +32,7 @@ int levels_needed(double radius, double limit) {
 
 bool is_degenerate(const Triangle& t, const std::vector<Vec3>& x) {
   if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
-  Vec3 n = cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);
-  return n.x == 0 && n.y == 0 && n.z == 0;
+  return is_degenerate_triangle(x[t[0]], x[t[1]], x[t[2]]);
 }
 
 }  // namespace
@@ -89,7 +92,7 @@ CacheStatistics compute_cache_statistics(const FrameSource& source, double lambd
     }
     radius_sum += frame_sum;
     radius_count += triangles.size();
-    const double cell = triangles.empty() ? 0 : 3.0 * lambda * frame_sum / static_cast<double>(triangles.size());
+    const double cell = virtual_subdivision_cell_size(radii, lambda);
     stats.cell_size.min = std::min(stats.cell_size.min, cell);
     stats.cell_size.max = std::max(stats.cell_size.max, cell);
     stats.cell_size.mean += cell / static_cast<double>(stats.frames);

@@ -31,6 +31,8 @@ void add_cache_options(CLI::App& app, CacheArguments& arguments) {
   app.add_option("-n,--name", arguments.names, "Object name for each input, in order (one value per -n)")
       ->allow_extra_args(false)
       ->take_all();
+  app.add_flag("-s,--sequence", arguments.sequence,
+               "The inputs are the frames of one mesh sequence, in order (e.g. a two-frame step: t0.ply t1.ply)");
   app.add_option("-f,--frames", arguments.frames, "Frames to use, 0-based and inclusive: A:B or A:B:STEP or A:");
   app.add_option("--fps", arguments.sample_rate, "Animated files: samples per second (default: the file's rate)")
       ->check(CLI::PositiveNumber);
@@ -43,7 +45,16 @@ void add_cache_options(CLI::App& app, CacheArguments& arguments) {
 io::CacheOptions to_cache_options(const CacheArguments& arguments) {
   io::CacheOptions options;
   std::size_t next_topology = 0;
-  for (std::size_t i = 0; i < arguments.inputs.size(); ++i) {
+  if (arguments.sequence) {
+    if (!arguments.topologies.empty()) throw UsageError("--sequence takes mesh files, not point caches (--topology)");
+    if (arguments.names.size() > 1) throw UsageError("--sequence makes one input: give at most one --name");
+    io::InputSpec spec;
+    spec.path = arguments.inputs.front();
+    spec.frame_files = arguments.inputs;
+    if (!arguments.names.empty()) spec.name = arguments.names.front();
+    options.inputs.push_back(std::move(spec));
+  }
+  for (std::size_t i = 0; i < arguments.inputs.size() && !arguments.sequence; ++i) {
     io::InputSpec spec;
     spec.path = arguments.inputs[i];
     const std::string ext = lower_extension(spec.path);

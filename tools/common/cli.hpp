@@ -16,6 +16,7 @@ struct CacheArguments {
   std::vector<std::string> topologies;  ///< --topology, one per point cache, in order
   std::vector<std::string> names;       ///< --name, one per input, in order
   std::string frames;                   ///< --frames A:B[:S]
+  bool sequence = false;                ///< --sequence: the inputs are the frames of one object
   double sample_rate = 0;               ///< --fps for animated files (0 = the file's own)
   double start_time = -1, end_time = -1;
 };
