@@ -115,8 +115,10 @@ while read -r kind name path; do
         extra=()
         [ "$tool" = memcheck ] && extra=(--leak-check full)
         start=$SECONDS
+        # CudaCheck.* makes failing CUDA calls on purpose (to test the error
+        # reports); the sanitizer would count those as errors.
         timeout "$sanitizer_timeout" "$sanitizer" --tool "$tool" "${extra[@]}" --error-exitcode 99 \
-          "$binary" --gtest_brief=1 >"$logs/$name.$tool.log" 2>&1
+          "$binary" --gtest_brief=1 --gtest_filter='-CudaCheck.*' >"$logs/$name.$tool.log" 2>&1
         rc=$?
         tail -5 "$logs/$name.$tool.log"
         summary_line=$(grep -E 'ERROR SUMMARY|RACECHECK SUMMARY|LEAK SUMMARY' "$logs/$name.$tool.log" | tail -1)
