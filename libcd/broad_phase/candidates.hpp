@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <tuple>
 
+#include "libcd/core/host_device.hpp"
 #include "libcd/scene/mesh.hpp"
 
 namespace snag {
@@ -37,10 +38,10 @@ inline bool operator<(TrianglePair p, TrianglePair q) { return std::tie(p.a, p.b
 inline bool operator==(TrianglePair p, TrianglePair q) { return p.a == q.a && p.b == q.b; }
 
 /// A triangle pair packed in 64 bits (a < b), for sorting.
-inline std::uint64_t pack_pair(Index a, Index b) {
+SNAG_HD_INLINE std::uint64_t pack_pair(Index a, Index b) {
   return a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;
 }
-inline TrianglePair unpack_pair(std::uint64_t key) {
+SNAG_HD_INLINE TrianglePair unpack_pair(std::uint64_t key) {
   return {static_cast<Index>(key >> 32), static_cast<Index>(key & 0xffffffffu)};
 }
 

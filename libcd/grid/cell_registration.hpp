@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "libcd/core/host_device.hpp"
 #include "libcd/grid/uniform_grid.hpp"
 #include "libcd/subdivision/virtual_subdivision.hpp"
 
@@ -40,7 +41,7 @@ struct RegistrationCounts {
 };
 
 /// True when two leaves belong to the same (root, time slot) unit.
-inline bool same_unit(const VirtualTriangle& a, const VirtualTriangle& b) {
+SNAG_HD_INLINE bool same_unit(const VirtualTriangle& a, const VirtualTriangle& b) {
   return a.root == b.root && a.slot_depth == b.slot_depth && a.slot_index == b.slot_index;
 }
 

@@ -2,15 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+
+#include "libcd/grid/radius_sum.hpp"
 
 namespace snag {
 
 double virtual_subdivision_cell_size(const std::vector<double>& radii, double lambda) {
   if (radii.empty()) return 0;
-  // Fixed-order sum: identical result for any thread count.
-  const double sum = std::accumulate(radii.begin(), radii.end(), 0.0);
-  return 3.0 * lambda * (sum / static_cast<double>(radii.size()));
+  // Order-independent exact sum (radius_sum.hpp): identical result for any
+  // thread count and on the GPU back end.
+  const int shift = radius_sum_shift(*std::max_element(radii.begin(), radii.end()));
+  FixedPointSum sum;
+  for (double r : radii) sum = sum + quantize_radius(r, shift);
+  return 3.0 * lambda * fixed_point_mean(sum, radii.size(), shift);
 }
 
 double largest_triangle_cell_size(const std::vector<double>& radii) {

@@ -19,7 +19,8 @@
 
 namespace snag {
 
-/// 3·λ·mean(radii); 0 when radii is empty.
+/// 3·λ·mean(radii), the mean from the exact order-independent sum of
+/// radius_sum.hpp (so the GPU back end finds the same size); 0 when radii is empty.
 double virtual_subdivision_cell_size(const std::vector<double>& radii, double lambda);
 
 /// 3·max(radii)·(1 + 1e-9): every triangle meets the "radius ≤ size/3" rule,

@@ -1,0 +1,43 @@
+// Registration of leaves in their cells on the GPU, mirroring
+// libcd/grid/cell_registration.cpp: one (cell id, leaf id) item per cell of
+// each leaf's block, ONE stable radix sort by cell id (items are generated in
+// leaf order, so the order is (cell, leaf), as the CPU's sort), one scan that
+// keeps one registration per (root, slot) unit per cell with home priority,
+// compaction, and the cell runs.
+#pragma once
+
+#include <cuda_runtime_api.h>
+
+#include <cstddef>
+#include <cstdint>
+
+#include "libcd/cuda/device_buffer.cuh"
+#include "libcd/grid/cell_registration.hpp"
+
+namespace snag {
+
+/// The grid after registration, on the device (as CellLists), and scratch.
+struct DeviceCellLists {
+  DeviceBuffer<std::uint64_t> cell_ids;  ///< #C used cell ids, ascending
+  DeviceBuffer<std::uint64_t> first;     ///< #C+1 offsets into leaves
+  DeviceBuffer<std::uint32_t> leaves;    ///< kept leaf ids, cell by cell
+  std::size_t cells = 0;
+  // scratch
+  DeviceBuffer<std::uint64_t> block_count, offset, keys, keys_sorted, kept_keys, run_length;
+  DeviceBuffer<std::uint32_t> values, values_sorted;
+  DeviceBuffer<std::uint8_t> keep;
+  DeviceBuffer<unsigned long long> selected;  ///< 2: kept registrations, cells
+  DeviceBuffer<unsigned char> temp;
+
+  explicit DeviceCellLists(cudaStream_t stream)
+      : cell_ids(0, stream), first(0, stream), leaves(0, stream), block_count(0, stream), offset(0, stream),
+        keys(0, stream), keys_sorted(0, stream), kept_keys(0, stream), run_length(0, stream), values(0, stream),
+        values_sorted(0, stream), keep(0, stream), selected(0, stream), temp(0, stream) {}
+};
+
+/// Registers leaf_count device leaves as register_leaves does; counts as the CPU's.
+/// Waits for the stream (sizes). Throws CudaError.
+void register_leaves_on_device(const Leaf* leaves, std::size_t leaf_count, const GridSpec& grid,
+                               DeviceCellLists& lists, cudaStream_t stream, RegistrationCounts& counts);
+
+}  // namespace snag

@@ -1,0 +1,41 @@
+// Launch shapes and warp-aggregated counters shared by the broad-phase kernels.
+#pragma once
+
+#include <cuda_runtime_api.h>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace snag::detail {
+
+constexpr unsigned kBlockSize = 256;
+
+/// Blocks of kBlockSize threads for one thread per item (n ≥ 1).
+inline unsigned blocks_for(std::size_t n) { return static_cast<unsigned>((n + kBlockSize - 1) / kBlockSize); }
+
+/// Index of this thread when one thread handles one item.
+__device__ __forceinline__ std::uint64_t thread_item() {
+  return static_cast<std::uint64_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+}
+
+/// Adds `value` of every lane of the warp to *counter with one atomic per warp.
+/// Every lane of the warp must call it (kernels launched with blocks_for).
+__device__ __forceinline__ void warp_count(unsigned value, unsigned long long* counter) {
+  const unsigned sum = __reduce_add_sync(0xffffffffu, value);
+  if ((threadIdx.x & 31u) == 0 && sum != 0) atomicAdd(counter, static_cast<unsigned long long>(sum));
+}
+
+/// Reserves one slot per lane with `take` set in the array counted by *counter;
+/// returns this lane's slot (meaningful only where take is set). Every lane of
+/// the warp must call it. The slot may lie past the array's capacity: the
+/// caller writes only below it and the host redoes the stage with more room.
+__device__ __forceinline__ unsigned long long warp_append(bool take, unsigned long long* counter) {
+  const unsigned mask = __ballot_sync(0xffffffffu, take);
+  const unsigned lane = threadIdx.x & 31u;
+  unsigned long long base = 0;
+  if (lane == 0 && mask != 0) base = atomicAdd(counter, static_cast<unsigned long long>(__popc(mask)));
+  base = __shfl_sync(0xffffffffu, base, 0);
+  return base + __popc(mask & ((1u << lane) - 1u));
+}
+
+}  // namespace snag::detail

@@ -1,0 +1,198 @@
+// Representative-triangle feature pairs and feature-level DOP culling on the
+// GPU: the CUDA twin of libcd/culling/representative_triangles.cpp.
+// Curtis, Tamstorf, Manocha, "Fast collision detection for deformable models
+// using representative-triangles", I3D 2008; Klosowski et al. 1998 (k-DOPs).
+#include "libcd/cuda/representative_triangles.cuh"
+
+#include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_scan.cuh>
+
+#include <algorithm>
+
+#include "libcd/cuda/launch.cuh"
+
+namespace snag {
+namespace {
+
+using detail::blocks_for;
+using detail::thread_item;
+
+void ensure(DeviceBuffer<unsigned char>& temp, std::size_t bytes) {
+  if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
+}
+
+__device__ __forceinline__ bool is_corner(const Triangle& t, Index v) { return t[0] == v || t[1] == v || t[2] == v; }
+
+struct FeatureInputs {
+  const Triangle* tris;
+  const Edge* edges;
+  const std::uint8_t* masks;
+  const std::array<Index, 3>* edge_ids;
+  const Dop18* triangle_dops;
+  const Dop18* edge_dops;
+  const Dop18* vertex_dops;
+  const TrianglePair* pairs;
+};
+
+/// The CPU's loop body for one triangle pair. With keys == nullptr it counts
+/// (before and after culling); otherwise it writes the kept pairs' keys
+/// (vertex << 32 | face, edge_a << 32 | edge_b) in the CPU's order.
+__device__ void feature_pairs_of(const FeatureInputs& in, std::uint64_t p, unsigned& vf_before, unsigned& vf_after,
+                                 unsigned& ee_before, unsigned& ee_after, std::uint64_t* vf_keys,
+                                 std::uint64_t* ee_keys) {
+  const Index side[2] = {in.pairs[p].a, in.pairs[p].b};
+  for (int s = 0; s < 2; ++s) {
+    const Index a = side[s], b = side[1 - s];
+    const Triangle ta = in.tris[a], tb = in.tris[b];
+    for (int i = 0; i < 3; ++i) {
+      if (!(in.masks[a] & (1u << i))) continue;
+      const Index v = ta[i];
+      if (is_corner(tb, v)) continue;
+      ++vf_before;
+      if (dop_overlap(in.vertex_dops[v], in.triangle_dops[b])) {
+        if (vf_keys != nullptr) vf_keys[vf_after] = (std::uint64_t(v) << 32) | b;
+        ++vf_after;
+      }
+    }
+  }
+  const Index a = side[0], b = side[1];
+  for (int i = 0; i < 3; ++i) {
+    if (!(in.masks[a] & (1u << (3 + i)))) continue;
+    const Index ea = in.edge_ids[a][i];
+    for (int j = 0; j < 3; ++j) {
+      if (!(in.masks[b] & (1u << (3 + j)))) continue;
+      const Index eb = in.edge_ids[b][j];
+      const Edge ga = in.edges[ea], gb = in.edges[eb];
+      if (ga[0] == gb[0] || ga[0] == gb[1] || ga[1] == gb[0] || ga[1] == gb[1]) continue;
+      ++ee_before;
+      if (dop_overlap(in.edge_dops[ea], in.edge_dops[eb])) {
+        if (ee_keys != nullptr) ee_keys[ee_after] = ea < eb ? (std::uint64_t(ea) << 32) | eb : (std::uint64_t(eb) << 32) | ea;
+        ++ee_after;
+      }
+    }
+  }
+}
+
+__global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_count, std::uint64_t* ee_count,
+                             unsigned long long* counters) {
+  const std::uint64_t p = thread_item();
+  unsigned vf_before = 0, vf_after = 0, ee_before = 0, ee_after = 0;
+  if (p < n) {
+    feature_pairs_of(in, p, vf_before, vf_after, ee_before, ee_after, nullptr, nullptr);
+    vf_count[p] = vf_after;
+    ee_count[p] = ee_after;
+  } else if (p == n) {
+    vf_count[p] = 0;
+    ee_count[p] = 0;
+  }
+  detail::warp_count(vf_before, &counters[0]);
+  detail::warp_count(ee_before, &counters[1]);
+}
+
+__global__ void write_kernel(FeatureInputs in, std::size_t n, const std::uint64_t* vf_offset,
+                             const std::uint64_t* ee_offset, std::uint64_t* vf_keys, std::uint64_t* ee_keys) {
+  const std::uint64_t p = thread_item();
+  if (p >= n) return;
+  unsigned vf_before = 0, vf_after = 0, ee_before = 0, ee_after = 0;
+  feature_pairs_of(in, p, vf_before, vf_after, ee_before, ee_after, vf_keys + vf_offset[p], ee_keys + ee_offset[p]);
+}
+
+__global__ void unpack_vf_kernel(const std::uint64_t* keys, std::size_t n, VertexFaceCandidate* out) {
+  const std::uint64_t k = thread_item();
+  if (k < n) out[k] = {static_cast<Index>(keys[k] >> 32), static_cast<Index>(keys[k] & 0xffffffffu)};
+}
+__global__ void unpack_ee_kernel(const std::uint64_t* keys, std::size_t n, EdgeEdgeCandidate* out) {
+  const std::uint64_t k = thread_item();
+  if (k < n) out[k] = {static_cast<Index>(keys[k] >> 32), static_cast<Index>(keys[k] & 0xffffffffu)};
+}
+
+int bits_for(std::uint64_t max_value) {
+  int bits = 1;
+  while (bits < 64 && (max_value >> bits) != 0) ++bits;
+  return bits;
+}
+
+void exclusive_sum(const std::uint64_t* in, std::uint64_t* out, std::size_t n, DeviceBuffer<unsigned char>& temp,
+                   cudaStream_t stream) {
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, n, stream));
+  ensure(temp, bytes);
+  bytes = temp.size();
+  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temp.data(), bytes, in, out, n, stream));
+}
+
+void sort_keys(const std::uint64_t* in, std::uint64_t* out, std::size_t n, int end_bit,
+               DeviceBuffer<unsigned char>& temp, cudaStream_t stream) {
+  if (n == 0) return;
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, in, out, n, 0, end_bit, stream));
+  ensure(temp, bytes);
+  bytes = temp.size();
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(temp.data(), bytes, in, out, n, 0, end_bit, stream));
+}
+
+}  // namespace
+
+void representative_feature_pairs_on_device(const DeviceTopology& topology, const Dop18* triangle_dops,
+                                            const Dop18* edge_dops, const Dop18* vertex_dops,
+                                            std::size_t vertex_count, std::size_t edge_count,
+                                            const TrianglePair* pairs, std::size_t n, DeviceFeatures& f,
+                                            cudaStream_t stream, FeatureCounts& counts) {
+  counts = FeatureCounts{};
+  f.vf_size = f.ee_size = 0;
+  f.vf.resize(0);
+  f.ee.resize(0);
+  if (n == 0) return;
+  const FeatureInputs in{topology.triangles.data(), topology.edges.data(), topology.masks.data(),
+                         topology.edge_ids.data(), triangle_dops, edge_dops, vertex_dops, pairs};
+  f.vf_count.resize(n + 1);
+  f.ee_count.resize(n + 1);
+  f.vf_offset.resize(n + 1);
+  f.ee_offset.resize(n + 1);
+  f.counters.resize(2);
+  f.counters.fill_zero();
+  count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(in, n, f.vf_count.data(), f.ee_count.data(),
+                                                                    f.counters.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+  exclusive_sum(f.vf_count.data(), f.vf_offset.data(), n + 1, f.temp, stream);
+  exclusive_sum(f.ee_count.data(), f.ee_offset.data(), n + 1, f.temp, stream);
+  std::uint64_t vf_total = 0, ee_total = 0;
+  unsigned long long before[2] = {0, 0};
+  SNAG_CUDA_CHECK(
+      cudaMemcpyAsync(&vf_total, f.vf_offset.data() + n, sizeof(vf_total), cudaMemcpyDeviceToHost, stream));
+  SNAG_CUDA_CHECK(
+      cudaMemcpyAsync(&ee_total, f.ee_offset.data() + n, sizeof(ee_total), cudaMemcpyDeviceToHost, stream));
+  f.counters.download(before, 2);
+  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+  counts.vf_before = before[0];
+  counts.ee_before = before[1];
+  counts.vf_after = vf_total;
+  counts.ee_after = ee_total;
+
+  f.vf_keys.resize(vf_total);
+  f.ee_keys.resize(ee_total);
+  f.vf_sorted.resize(vf_total);
+  f.ee_sorted.resize(ee_total);
+  write_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(in, n, f.vf_offset.data(), f.ee_offset.data(),
+                                                                f.vf_keys.data(), f.ee_keys.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+  // Keys are unique (see representative_triangles.hpp); a sort orders them as the CPU's.
+  const int vf_bits = 32 + bits_for(vertex_count > 0 ? vertex_count - 1 : 0);
+  const int ee_bits = 32 + bits_for(edge_count > 0 ? edge_count - 1 : 0);
+  sort_keys(f.vf_keys.data(), f.vf_sorted.data(), vf_total, vf_bits, f.temp, stream);
+  sort_keys(f.ee_keys.data(), f.ee_sorted.data(), ee_total, ee_bits, f.temp, stream);
+  f.vf.resize(vf_total);
+  f.ee.resize(ee_total);
+  if (vf_total > 0) {
+    unpack_vf_kernel<<<blocks_for(vf_total), detail::kBlockSize, 0, stream>>>(f.vf_sorted.data(), vf_total, f.vf.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+  }
+  if (ee_total > 0) {
+    unpack_ee_kernel<<<blocks_for(ee_total), detail::kBlockSize, 0, stream>>>(f.ee_sorted.data(), ee_total, f.ee.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+  }
+  f.vf_size = vf_total;
+  f.ee_size = ee_total;
+}
+
+}  // namespace snag

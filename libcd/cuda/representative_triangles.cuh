@@ -1,0 +1,59 @@
+// Feature pairs of the unique triangle pairs on the GPU, mirroring
+// libcd/culling/representative_triangles.cpp: each triangle pair yields the
+// vertex-face and edge-edge pairs of the features its triangles represent,
+// culled by the swept 18-DOPs of vertex against face and edge against edge.
+// One thread per triangle pair counts, a prefix sum places, a second pass
+// writes; a radix sort orders the outputs as the CPU's sort does.
+#pragma once
+
+#include <cuda_runtime_api.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "libcd/bounding_volume/dop18.hpp"
+#include "libcd/broad_phase/candidates.hpp"
+#include "libcd/cuda/device_buffer.cuh"
+#include "libcd/culling/representative_triangles.hpp"
+
+namespace snag {
+
+/// The scene's topology and representatives on the device (uploaded once by build()).
+struct DeviceTopology {
+  DeviceBuffer<Triangle> triangles;              ///< #F
+  DeviceBuffer<Edge> edges;                      ///< #E
+  DeviceBuffer<std::uint8_t> masks;              ///< #F representative masks
+  DeviceBuffer<std::array<Index, 3>> edge_ids;   ///< #F edge ids of each triangle
+
+  explicit DeviceTopology(cudaStream_t stream)
+      : triangles(0, stream), edges(0, stream), masks(0, stream), edge_ids(0, stream) {}
+};
+
+/// Buffers of the feature stage, reused across calls.
+struct DeviceFeatures {
+  DeviceBuffer<std::uint64_t> vf_count, ee_count, vf_offset, ee_offset;
+  DeviceBuffer<std::uint64_t> vf_keys, ee_keys, vf_sorted, ee_sorted;
+  DeviceBuffer<VertexFaceCandidate> vf;  ///< the result, sorted
+  DeviceBuffer<EdgeEdgeCandidate> ee;    ///< the result, sorted
+  DeviceBuffer<unsigned long long> counters;
+  DeviceBuffer<unsigned char> temp;
+  std::size_t vf_size = 0, ee_size = 0;
+
+  explicit DeviceFeatures(cudaStream_t stream)
+      : vf_count(0, stream), ee_count(0, stream), vf_offset(0, stream), ee_offset(0, stream), vf_keys(0, stream),
+        ee_keys(0, stream), vf_sorted(0, stream), ee_sorted(0, stream), vf(0, stream), ee(0, stream),
+        counters(0, stream), temp(0, stream) {}
+};
+
+/// Representative feature pairs of pair_count unique device triangle pairs,
+/// left sorted in features.vf / features.ee; counts as the CPU's.
+/// @param triangle_dops, edge_dops, vertex_dops  device swept DOPs (#F, #E, #V)
+/// Waits for the stream. Throws CudaError.
+void representative_feature_pairs_on_device(const DeviceTopology& topology, const Dop18* triangle_dops,
+                                            const Dop18* edge_dops, const Dop18* vertex_dops,
+                                            std::size_t vertex_count, std::size_t edge_count,
+                                            const TrianglePair* pairs, std::size_t pair_count,
+                                            DeviceFeatures& features, cudaStream_t stream, FeatureCounts& counts);
+
+}  // namespace snag

@@ -1,0 +1,189 @@
+// Virtual subdivision, level by level, on the GPU: the CUDA twin of
+// libcd/subdivision/virtual_subdivision.cpp, with the same SNAG_HD math
+// (virtual_triangle.hpp, bounding_sphere.hpp, dop18.hpp, control_bits.hpp).
+// Wong, Leach, Zambetta, virtual subdivision chapter, Algorithm 1 and section
+// 5.3.2: one thread per triangle per level, a new triangle list per level.
+#include "libcd/cuda/virtual_subdivision.cuh"
+
+#include <cub/device/device_scan.cuh>
+
+#include <algorithm>
+
+#include "libcd/bounding_volume/bounding_sphere.hpp"
+#include "libcd/bounding_volume/primitive_bounds.hpp"
+#include "libcd/cuda/launch.cuh"
+
+namespace snag {
+namespace {
+
+using detail::blocks_for;
+using detail::thread_item;
+
+__device__ __forceinline__ bool is_leaf(SplitDecision d) {
+  return d == SplitDecision::kAccept || d == SplitDecision::kAcceptOversized;
+}
+
+__device__ __forceinline__ void swept_points_of(const VirtualTriangle& t, const Triangle* tris, const Vec3* x_t0,
+                                                const Vec3* x_t1, Vec3 p_t0[3], Vec3 p_t1[3], Vec3 points[6]) {
+  const Triangle root = tris[t.root];
+  for (int i = 0; i < 3; ++i) {
+    p_t0[i] = x_t0[root[i]];
+    p_t1[i] = x_t1[root[i]];
+  }
+  virtual_swept_points(t, p_t0, p_t1, points);
+}
+
+__global__ void root_items_kernel(std::size_t n, DeviceLevelItem* items) {
+  const std::uint64_t f = thread_item();
+  if (f >= n) return;
+  items[f].triangle = virtual_root(static_cast<Index>(f));
+  items[f].group_first = static_cast<std::uint32_t>(f);
+  items[f].group_size = 1;
+}
+
+/// Pass 1: decision, home cell, child and leaf counts; level counters.
+__global__ void examine_kernel(const DeviceLevelItem* items, std::size_t n, const Triangle* tris, const Vec3* x_t0,
+                               const Vec3* x_t1, GridSpec grid, double thickness, std::uint32_t max_levels,
+                               std::uint32_t max_halvings, std::uint8_t* decision, CellCoord* home,
+                               std::uint64_t* child_count, std::uint64_t* leaf_count, unsigned long long* counters) {
+  const std::uint64_t i = thread_item();
+  SplitDecision d = SplitDecision::kAccept;
+  if (i < n) {
+    const VirtualTriangle t = items[i].triangle;
+    Vec3 p_t0[3], p_t1[3], points[6];
+    swept_points_of(t, tris, x_t0, x_t1, p_t0, p_t1, points);
+    const Sphere sphere = sphere_of_points(points, 6);
+    d = decide_split(t, points, sphere.radius, thickness, grid.cell_size, max_levels, max_halvings);
+    decision[i] = static_cast<std::uint8_t>(d);
+    home[i] = grid_cell_of(grid, sphere.centre);
+    child_count[i] = d == SplitDecision::kSubdivide ? 4 : (d == SplitDecision::kHalveTime ? 2 : 0);
+    leaf_count[i] = is_leaf(d) ? 1 : 0;
+  } else if (i == n) {
+    child_count[i] = 0;
+    leaf_count[i] = 0;
+  }
+  const bool valid = i < n;
+  detail::warp_count(valid && d == SplitDecision::kSubdivide, &counters[0]);
+  detail::warp_count(valid && d == SplitDecision::kHalveTime, &counters[1]);
+  detail::warp_count(valid && d == SplitDecision::kAcceptOversized, &counters[2]);
+}
+
+/// Pass 3: leaves and children, as the CPU's third pass.
+__global__ void write_kernel(const DeviceLevelItem* items, std::size_t n, const Triangle* tris, const Vec3* x_t0,
+                             const Vec3* x_t1, GridSpec grid, double thickness, const std::uint8_t* decision,
+                             const CellCoord* home, const std::uint64_t* child_offset,
+                             const std::uint64_t* leaf_offset, Leaf* leaves, DeviceLevelItem* next) {
+  const std::uint64_t i = thread_item();
+  if (i >= n) return;
+  const DeviceLevelItem item = items[i];
+  const SplitDecision d = static_cast<SplitDecision>(decision[i]);
+  if (is_leaf(d)) {
+    Leaf& leaf = leaves[leaf_offset[i]];
+    leaf.triangle = item.triangle;
+    Vec3 p_t0[3], p_t1[3], points[6];
+    swept_points_of(item.triangle, tris, x_t0, x_t1, p_t0, p_t1, points);
+    const Vec3 sources[6] = {p_t0[0], p_t0[1], p_t0[2], p_t1[0], p_t1[1], p_t1[2]};
+    leaf.dop = dop_of_points(points, 6, rounding_pad(sources, 6), thickness);
+    Vec3 lo, hi;
+    dop_box(leaf.dop, lo, hi);
+    LeafCells cells;
+    cells.block = grid_block_of(grid, lo, hi);
+    cells.home = home[i];
+    cells.sibling_count = 0;
+    for (std::uint32_t s = item.group_first; s < item.group_first + item.group_size; ++s) {
+      if (s != i && is_leaf(static_cast<SplitDecision>(decision[s]))) cells.sibling_home[cells.sibling_count++] = home[s];
+    }
+    cells.control_bits = make_control_bits(cells);
+    leaf.cells = cells;
+  } else if (d == SplitDecision::kSubdivide) {
+    VirtualTriangle child[4];
+    loop_children(item.triangle, child);
+    const std::uint64_t o = child_offset[i];
+    for (int q = 0; q < 4; ++q) next[o + q] = {child[q], static_cast<std::uint32_t>(o), 4};
+  } else {
+    VirtualTriangle child[2];
+    halve_time(item.triangle, child);
+    const std::uint64_t o = child_offset[i];
+    for (int h = 0; h < 2; ++h) next[o + h] = {child[h], static_cast<std::uint32_t>(o + h), 1};
+  }
+}
+
+void exclusive_sum(const std::uint64_t* in, std::uint64_t* out, std::size_t n, DeviceBuffer<unsigned char>& temp,
+                   cudaStream_t stream) {
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, n, stream));
+  if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
+  bytes = temp.size();
+  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temp.data(), bytes, in, out, n, stream));
+}
+
+}  // namespace
+
+std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t triangle_count, const Vec3* x_t0,
+                                          const Vec3* x_t1, const GridSpec& grid, double thickness,
+                                          std::uint32_t max_levels, std::uint32_t max_halvings,
+                                          DeviceSubdivision& b, cudaStream_t stream,
+                                          std::vector<SubdivisionLevelCounts>& levels) {
+  levels.clear();
+  std::size_t n = triangle_count, leaf_total_so_far = 0;
+  b.items.resize(n);
+  if (n > 0) {
+    root_items_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(n, b.items.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+  }
+  b.counters.resize(3);
+  while (n > 0) {
+    b.decision.resize(n);
+    b.home.resize(n);
+    b.child_count.resize(n + 1);
+    b.leaf_count.resize(n + 1);
+    b.child_offset.resize(n + 1);
+    b.leaf_offset.resize(n + 1);
+    b.counters.fill_zero();
+    examine_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(
+        b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, max_levels, max_halvings, b.decision.data(),
+        b.home.data(), b.child_count.data(), b.leaf_count.data(), b.counters.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+    exclusive_sum(b.child_count.data(), b.child_offset.data(), n + 1, b.temp, stream);
+    exclusive_sum(b.leaf_count.data(), b.leaf_offset.data(), n + 1, b.temp, stream);
+    std::uint64_t child_total = 0, leaf_total = 0;
+    unsigned long long counters[3] = {0, 0, 0};
+    SNAG_CUDA_CHECK(cudaMemcpyAsync(&child_total, b.child_offset.data() + n, sizeof(std::uint64_t),
+                                    cudaMemcpyDeviceToHost, stream));
+    SNAG_CUDA_CHECK(cudaMemcpyAsync(&leaf_total, b.leaf_offset.data() + n, sizeof(std::uint64_t),
+                                    cudaMemcpyDeviceToHost, stream));
+    b.counters.download(counters, 3);
+    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+
+    SubdivisionLevelCounts counts;
+    counts.triangles = n;
+    counts.accepted = leaf_total;
+    counts.subdivided = counters[0];
+    counts.halved = counters[1];
+    counts.oversized = counters[2];
+    levels.push_back(counts);
+
+    // Room for this level's leaves after the previous ones (grow, keeping them).
+    const std::size_t leaf_end = leaf_total_so_far + leaf_total;
+    if (leaf_end > b.leaves.capacity()) {
+      b.spare.resize(std::max<std::size_t>(leaf_end, 2 * b.leaves.capacity()));
+      if (leaf_total_so_far > 0)
+        SNAG_CUDA_CHECK(cudaMemcpyAsync(b.spare.data(), b.leaves.data(), leaf_total_so_far * sizeof(Leaf),
+                                        cudaMemcpyDeviceToDevice, stream));
+      std::swap(b.leaves, b.spare);
+      b.spare.release();
+    }
+    b.leaves.resize(leaf_end);
+    b.next.resize(child_total);
+    write_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(
+        b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, b.decision.data(), b.home.data(),
+        b.child_offset.data(), b.leaf_offset.data(), b.leaves.data() + leaf_total_so_far, b.next.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+    std::swap(b.items, b.next);
+    leaf_total_so_far = leaf_end;
+    n = child_total;
+  }
+  return leaf_total_so_far;
+}
+
+}  // namespace snag

@@ -1,0 +1,56 @@
+// Virtual subdivision on the GPU, mirroring libcd/subdivision/virtual_subdivision.cpp:
+// level by level, one thread per virtual triangle decides (accept, Loop split,
+// time halving) and finds its home cell; prefix sums place children in the
+// next level's list and leaves after the previous levels' leaves; a second
+// pass writes leaves (DOP, cells, control bits with siblings) and children.
+// Same order as the CPU, so the leaf list is identical.
+#pragma once
+
+#include <cuda_runtime_api.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "libcd/cuda/device_buffer.cuh"
+#include "libcd/subdivision/virtual_subdivision.hpp"
+
+namespace snag {
+
+/// A virtual triangle in a level's list with the slice holding its siblings.
+struct DeviceLevelItem {
+  VirtualTriangle triangle;
+  std::uint32_t group_first = 0;
+  std::uint32_t group_size = 1;
+};
+
+/// Buffers of the subdivision stage, reused across calls (they only grow).
+struct DeviceSubdivision {
+  DeviceBuffer<DeviceLevelItem> items, next;
+  DeviceBuffer<std::uint8_t> decision;
+  DeviceBuffer<CellCoord> home;
+  DeviceBuffer<std::uint64_t> child_count, leaf_count;  ///< n+1 counts, scanned in place into offsets
+  DeviceBuffer<std::uint64_t> child_offset, leaf_offset;
+  DeviceBuffer<unsigned long long> counters;  ///< subdivided, halved, oversized of one level
+  DeviceBuffer<Leaf> leaves, spare;
+  DeviceBuffer<unsigned char> temp;
+
+  explicit DeviceSubdivision(cudaStream_t stream)
+      : items(0, stream), next(0, stream), decision(0, stream), home(0, stream), child_count(0, stream),
+        leaf_count(0, stream), child_offset(0, stream), leaf_offset(0, stream), counters(0, stream),
+        leaves(0, stream), spare(0, stream), temp(0, stream) {}
+};
+
+/// Subdivides every triangle as subdivide_virtually does; the leaves are left
+/// in buffers.leaves (the returned count, level by level, in list order).
+/// Waits for the stream once per level (the sizes of the next level).
+/// @param triangles  #F device triangles; x_t0, x_t1: #V device positions
+/// @param[out] levels  one entry per level examined
+/// Throws CudaError.
+std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t triangle_count, const Vec3* x_t0,
+                                          const Vec3* x_t1, const GridSpec& grid, double thickness,
+                                          std::uint32_t max_levels, std::uint32_t max_halvings,
+                                          DeviceSubdivision& buffers, cudaStream_t stream,
+                                          std::vector<SubdivisionLevelCounts>& levels);
+
+}  // namespace snag

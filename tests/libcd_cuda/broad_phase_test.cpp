@@ -1,0 +1,249 @@
+// The GPU broad phase (libcd/cuda/cuda_broad_phase) against its oracle, the
+// CPU VirtualSubdivisionGrid: the same sorted VF, EE and triangle-pair vectors
+// and the same counts, on random soups with very uneven triangles, fast movers
+// forcing time halving, thickness > 0, the samples, and the reference frames
+// cloth_ball92 -> 93. Also: the exact radius sum does not depend on order.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "gpu_test.hpp"
+#include "io/open_cache.hpp"
+#include "libcd/broad_phase/virtual_subdivision_grid.hpp"
+#include "libcd/core/error.hpp"
+#include "libcd/cuda/cuda_broad_phase.hpp"
+#include "libcd/grid/cell_size.hpp"
+#include "libcd/grid/radius_sum.hpp"
+#include "ply_mesh.hpp"
+
+namespace snag {
+namespace {
+
+struct Soup {
+  Scene scene;
+  std::vector<Vec3> x_t0, x_t1;
+};
+
+// n triangles of very uneven sizes (tiny to scene-sized, slivers, degenerate,
+// strips sharing edges); when moving, small random motion and ~3% fast movers
+// that cross the scene (they force time halving).
+Soup random_soup(unsigned seed, int n, bool moving) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> x;
+  std::vector<Triangle> tris;
+  auto point = [&] { return Vec3{u(rng) * 10, u(rng) * 10, u(rng) * 10}; };
+  for (int k = 0; k < n; ++k) {
+    const Index base = static_cast<Index>(x.size());
+    const double kind = u(rng);
+    const Vec3 c = point();
+    const double size = kind < 0.5 ? 0.05 : (kind < 0.85 ? 0.4 : (kind < 0.95 ? 2.5 : 6.0));
+    const Vec3 a = c, b = c + Vec3{size * (u(rng) - 0.5), size * (u(rng) - 0.5), size * (u(rng) - 0.5)};
+    Vec3 d = c + Vec3{size * (u(rng) - 0.5), size * (u(rng) - 0.5), size * (u(rng) - 0.5)};
+    if (k % 13 == 5) d = lerp(a, b, 0.3);
+    if (k % 17 == 3) d = a + Vec3{1e-4, 0, 0};
+    if (k % 7 == 2 && base >= 3) {
+      x.push_back(d);
+      tris.push_back({base - 1, base - 2, base});
+      continue;
+    }
+    x.push_back(a);
+    x.push_back(b);
+    x.push_back(d);
+    tris.push_back({base, base + 1, base + 2});
+  }
+  Soup soup{Scene({make_object("soup", static_cast<Index>(x.size()), tris)}), x, x};
+  if (moving) {
+    for (std::size_t v = 0; v < x.size(); ++v)
+      soup.x_t1[v] = x[v] + Vec3{0.3 * (u(rng) - 0.5), 0.3 * (u(rng) - 0.5), 0.3 * (u(rng) - 0.5)};
+    for (const Triangle& t : tris) {
+      if (u(rng) < 0.03) {
+        const Vec3 jump{8 * (u(rng) - 0.5), 8 * (u(rng) - 0.5), 8};
+        for (Index v : t) soup.x_t1[v] = x[v] + jump;
+      }
+    }
+  }
+  return soup;
+}
+
+/// Every count of the two runs (times and memory excluded) must agree.
+void expect_same_counts(const BroadPhaseStats& cpu, const BroadPhaseStats& gpu) {
+  EXPECT_EQ(cpu.cell_size, gpu.cell_size);
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(cpu.grid_dims[a], gpu.grid_dims[a]);
+  EXPECT_EQ(cpu.cells_used, gpu.cells_used);
+  EXPECT_EQ(cpu.root_triangles, gpu.root_triangles);
+  EXPECT_EQ(cpu.triangles_subdivided, gpu.triangles_subdivided);
+  EXPECT_EQ(cpu.time_halvings, gpu.time_halvings);
+  EXPECT_EQ(cpu.oversized_leaves, gpu.oversized_leaves);
+  EXPECT_EQ(cpu.triangles_per_level, gpu.triangles_per_level);
+  EXPECT_EQ(cpu.subdivided_per_level, gpu.subdivided_per_level);
+  EXPECT_EQ(cpu.halved_per_level, gpu.halved_per_level);
+  EXPECT_EQ(cpu.leaf_triangles, gpu.leaf_triangles);
+  EXPECT_EQ(cpu.registrations, gpu.registrations);
+  EXPECT_EQ(cpu.home_registrations, gpu.home_registrations);
+  EXPECT_EQ(cpu.phantom_registrations, gpu.phantom_registrations);
+  EXPECT_EQ(cpu.duplicate_registrations_removed, gpu.duplicate_registrations_removed);
+  EXPECT_EQ(cpu.tests, gpu.tests);
+  EXPECT_EQ(cpu.same_root_tests, gpu.same_root_tests);
+  EXPECT_EQ(cpu.removed_by_time_slots, gpu.removed_by_time_slots);
+  EXPECT_EQ(cpu.removed_by_control_bits, gpu.removed_by_control_bits);
+  EXPECT_EQ(cpu.removed_by_extended_control_bits, gpu.removed_by_extended_control_bits);
+  EXPECT_EQ(cpu.fallback_tests, gpu.fallback_tests);
+  EXPECT_EQ(cpu.tests_after_control_bits, gpu.tests_after_control_bits);
+  EXPECT_EQ(cpu.duplicate_root_pair_tests, gpu.duplicate_root_pair_tests);
+  EXPECT_EQ(cpu.culled_by_dop, gpu.culled_by_dop);
+  EXPECT_EQ(cpu.triangle_pairs, gpu.triangle_pairs);
+  EXPECT_EQ(cpu.vf_before_culling, gpu.vf_before_culling);
+  EXPECT_EQ(cpu.vf_after_culling, gpu.vf_after_culling);
+  EXPECT_EQ(cpu.ee_before_culling, gpu.ee_before_culling);
+  EXPECT_EQ(cpu.ee_after_culling, gpu.ee_after_culling);
+  EXPECT_EQ(cpu.candidates, gpu.candidates);
+}
+
+/// CCD and static detection on CPU and GPU; everything must be identical.
+/// Returns the number of CCD candidates (so callers can check the case is not trivial).
+std::size_t expect_gpu_equals_cpu(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                  BroadPhaseMethod method, const BroadPhaseSettings& settings) {
+  const bool subdivide = method == BroadPhaseMethod::kVirtualSubdivisionGrid;
+  VirtualSubdivisionGrid cpu(subdivide);
+  const std::unique_ptr<BroadPhase> gpu = make_cuda_broad_phase(method);
+  cpu.build(scene, settings);
+  gpu->build(scene, settings);
+
+  std::vector<VertexFaceCandidate> vf_cpu, vf_gpu;
+  std::vector<EdgeEdgeCandidate> ee_cpu, ee_gpu;
+  cpu.detect_ccd(x_t0, x_t1, vf_cpu, ee_cpu);
+  gpu->detect_ccd(x_t0, x_t1, vf_gpu, ee_gpu);
+  EXPECT_EQ(vf_cpu, vf_gpu);
+  EXPECT_EQ(ee_cpu, ee_gpu);
+  expect_same_counts(cpu.stats(), gpu->stats());
+  EXPECT_GT(gpu->stats().memory_bytes, 0u);
+  const std::size_t ccd_candidates = vf_cpu.size() + ee_cpu.size();
+
+  std::vector<TrianglePair> pairs_cpu, pairs_gpu;
+  cpu.detect_static(x_t1, pairs_cpu);
+  gpu->detect_static(x_t1, pairs_gpu);
+  EXPECT_EQ(pairs_cpu, pairs_gpu);
+  expect_same_counts(cpu.stats(), gpu->stats());
+
+  // Buffers are reused: a second CCD call on the same object gives the same result.
+  gpu->detect_ccd(x_t0, x_t1, vf_gpu, ee_gpu);
+  EXPECT_EQ(vf_cpu, vf_gpu);
+  EXPECT_EQ(ee_cpu, ee_gpu);
+  return ccd_candidates;
+}
+
+std::string samples_dir() {
+  const char* from_environment = std::getenv("SNAG_SAMPLES_DIR");
+  if (from_environment != nullptr && *from_environment != '\0') return from_environment;
+  return std::string(SNAG_SOURCE_DIR) + "/samples";
+}
+
+TEST(CudaBroadPhaseCellSize, ExactRadiusSumIgnoresOrder) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<double> radii(100000);
+  for (double& r : radii) r = std::pow(10.0, -6 + 8 * u(rng));  // twelve decades
+  const double size = virtual_subdivision_cell_size(radii, 1.2);
+  double naive = 0;
+  for (double r : radii) naive += r;
+  EXPECT_NEAR(size, 3 * 1.2 * naive / radii.size(), 1e-12 * size);
+  std::reverse(radii.begin(), radii.end());
+  EXPECT_EQ(virtual_subdivision_cell_size(radii, 1.2), size);
+  std::shuffle(radii.begin(), radii.end(), rng);
+  EXPECT_EQ(virtual_subdivision_cell_size(radii, 1.2), size);
+}
+
+TEST(CudaBroadPhaseFactory, RejectsBruteForce) {
+  EXPECT_THROW(make_cuda_broad_phase(BroadPhaseMethod::kBruteForce), UsageError);
+}
+
+class CudaBroadPhaseTest : public test::GpuTest {};
+
+TEST_F(CudaBroadPhaseTest, RejectsBadSettingsAndSizes) {
+  const Soup soup = random_soup(1, 50, false);
+  const auto gpu = make_cuda_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  std::vector<TrianglePair> pairs;
+  EXPECT_THROW(gpu->detect_static(soup.x_t0, pairs), UsageError);
+  BroadPhaseSettings bad;
+  bad.lambda = 1.0;
+  EXPECT_THROW(gpu->build(soup.scene, bad), UsageError);
+  gpu->build(soup.scene, BroadPhaseSettings{});
+  EXPECT_THROW(gpu->detect_static(std::vector<Vec3>(3), pairs), UsageError);
+}
+
+TEST_F(CudaBroadPhaseTest, MatchesCpuOnStaticUnevenSoups) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const Soup soup = random_soup(seed, 3000, false);
+    SCOPED_TRACE(seed);
+    expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, {});
+    expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kLargestTriangleGrid, {});
+  }
+}
+
+TEST_F(CudaBroadPhaseTest, MatchesCpuWithFastMoversAndTimeHalving) {
+  for (unsigned seed : {11u, 12u}) {
+    const Soup soup = random_soup(seed, 4000, true);
+    SCOPED_TRACE(seed);
+    VirtualSubdivisionGrid probe(true);
+    probe.build(soup.scene, {});
+    std::vector<VertexFaceCandidate> vf;
+    std::vector<EdgeEdgeCandidate> ee;
+    probe.detect_ccd(soup.x_t0, soup.x_t1, vf, ee);
+    ASSERT_GT(probe.stats().time_halvings, 0u) << "the case must exercise time halving";
+    EXPECT_GT(expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, {}),
+              0u);
+    expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kLargestTriangleGrid, {});
+  }
+}
+
+TEST_F(CudaBroadPhaseTest, MatchesCpuWithThicknessAndSafetyLimits) {
+  const Soup soup = random_soup(21, 3000, true);
+  BroadPhaseSettings settings;
+  settings.thickness = 0.05;
+  expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, settings);
+  settings.max_subdivision_levels = 1;
+  settings.max_time_halvings = 1;
+  settings.lambda = 1.05;
+  expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, settings);
+}
+
+TEST_F(CudaBroadPhaseTest, MatchesCpuOnSamples) {
+  io::CacheOptions options;
+  const std::string dir = samples_dir() + "/cloth_ball/";
+  options.inputs.push_back({dir + "cloth.pc2", dir + "cloth_rest.obj", ""});
+  options.inputs.push_back({dir + "body.pc2", dir + "body_rest.obj", ""});
+  const auto source = io::open_cache(options);
+  ASSERT_GE(source->frame_count(), 4u);
+  std::vector<Vec3> x_t0, x_t1;
+  std::size_t candidates = 0;
+  const std::size_t last = source->frame_count() - 1;
+  for (std::size_t f : {std::size_t(0), last / 3, 2 * last / 3, last - 1}) {
+    SCOPED_TRACE(f);
+    source->read_frame(f, x_t0);
+    source->read_frame(f + 1, x_t1);
+    candidates += expect_gpu_equals_cpu(source->scene(), x_t0, x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, {});
+  }
+  EXPECT_GT(candidates, 0u);
+}
+
+TEST_F(CudaBroadPhaseTest, MatchesCpuOnClothBall92To93) {
+  const std::string dir = test::shared_data_dir() + "/meshes/";
+  const test::PlyMesh m92 = test::read_binary_ply(dir + "cloth_ball92.ply");
+  const test::PlyMesh m93 = test::read_binary_ply(dir + "cloth_ball93.ply");
+  ASSERT_EQ(m92.positions.size(), m93.positions.size());
+  const Scene scene({make_object("cloth_ball", static_cast<Index>(m92.positions.size()), m92.triangles)});
+  EXPECT_GT(expect_gpu_equals_cpu(scene, m92.positions, m93.positions, BroadPhaseMethod::kVirtualSubdivisionGrid, {}),
+            0u);
+  BroadPhaseSettings thick;
+  thick.thickness = 1e-3;
+  expect_gpu_equals_cpu(scene, m92.positions, m93.positions, BroadPhaseMethod::kVirtualSubdivisionGrid, thick);
+  expect_gpu_equals_cpu(scene, m92.positions, m93.positions, BroadPhaseMethod::kLargestTriangleGrid, {});
+}
+
+}  // namespace
+}  // namespace snag
