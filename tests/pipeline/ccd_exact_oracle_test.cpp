@@ -91,7 +91,7 @@ ExhaustiveResult exhaustive_ccd(const Scene& scene, const std::vector<Vec3>& x_t
   ExhaustiveResult result;
   auto collides = [&](PairKind kind, Index a, Index b) {
     const std::array<Vec3, 8> points = pair_points(scene, x_t0, x_t1, kind, a, b);
-    return screened ? collides_screened(kind, points) : exact_collision(kind, points).collides;
+    return screened ? collides_screened(kind, points) : exact_collision(kind, points, 1.0).collides;
   };
   const std::size_t n = scene.vertex_count();
   std::vector<SweptBox> vertex_box(n), face_box(scene.triangle_count()), edge_box(scene.edge_count());

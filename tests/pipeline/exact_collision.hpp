@@ -30,9 +30,12 @@ inline std::array<Vec3, 8> pair_points(const Scene& scene, const std::vector<Vec
   return {x_t0[ea[0]], x_t0[ea[1]], x_t0[eb[0]], x_t0[eb[1]], x_t1[ea[0]], x_t1[ea[1]], x_t1[eb[0]], x_t1[eb[1]]};
 }
 
-/// The exact answer (thickness 0).
-inline validate::ExactCcdResult exact_collision(PairKind kind, const std::array<Vec3, 8>& p) {
-  return kind == PairKind::kVertexFace ? validate::exact_vertex_face_ccd(p) : validate::exact_edge_edge_ccd(p);
+/// The exact answer (thickness 0), the earliest time of impact isolated to
+/// `toi_width` (a wide interval saves the refinement when only `collides`
+/// matters).
+inline validate::ExactCcdResult exact_collision(PairKind kind, const std::array<Vec3, 8>& p, double toi_width = 1e-6) {
+  return kind == PairKind::kVertexFace ? validate::exact_vertex_face_ccd(p, 0, toi_width)
+                                       : validate::exact_edge_edge_ccd(p, 0, toi_width);
 }
 
 /// Whether the pair collides (thickness 0): the floating-point filter's
@@ -44,7 +47,7 @@ inline bool collides_screened(PairKind kind, const std::array<Vec3, 8>& p) {
                                : edge_edge_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings);
   if (filter.answer == CcdAnswer::kNo) return false;
   if (filter.answer == CcdAnswer::kYes) return true;
-  return exact_collision(kind, p).collides;
+  return exact_collision(kind, p, 1.0).collides;
 }
 
 }  // namespace snag::test
