@@ -1,0 +1,398 @@
+// snag-scan end to end on the cloth_ball sample: the report's keys, the
+// deterministic order of its events, identical results across runs, thread
+// counts and input formats, the modes, the exit codes, and events whose ids
+// lie in range for their objects.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "tests/tools/run_process.hpp"
+#include "tests/tools/sample_paths.hpp"
+
+namespace snag::test {
+namespace {
+
+using nlohmann::json;
+
+ProcessResult snag_scan(const std::vector<std::string>& arguments) { return run_process(SNAG_SCAN_EXE, arguments); }
+
+struct ScanRun {
+  ProcessResult process;
+  json report;
+};
+
+/// Runs snag-scan with `arguments` plus "-q -r FILE" and parses the report.
+/// Runs are remembered: tests that need the same run share it.
+const ScanRun& scan(const std::vector<std::string>& arguments) {
+  static std::map<std::vector<std::string>, ScanRun> runs;
+  auto found = runs.find(arguments);
+  if (found != runs.end()) return found->second;
+  TemporaryDirectory dir;
+  std::vector<std::string> full = arguments;
+  full.insert(full.end(), {"-q", "-r", dir.path("report.json")});
+  ScanRun run;
+  run.process = snag_scan(full);
+  EXPECT_TRUE(run.process.exit_code == 0 || run.process.exit_code == 1) << run.process.err;
+  if (run.process.exit_code == 0 || run.process.exit_code == 1) run.report = json::parse(read_file(dir.path("report.json")));
+  return runs.emplace(arguments, std::move(run)).first->second;
+}
+
+std::vector<std::string> with(std::vector<std::string> inputs, const std::vector<std::string>& options) {
+  inputs.insert(inputs.end(), options.begin(), options.end());
+  return inputs;
+}
+
+/// The sample as point caches, whole cache, two threads, certified: the run most tests read.
+const ScanRun& full_scan() { return scan(with(sample_pc2_inputs(), {"--threads", "2"})); }
+
+/// Frames 24 to 26: the ball inside the folded cloth, hundreds of events of
+/// both kinds; the comparisons between runs use this window to stay quick.
+const std::vector<std::string> kWindow{"--frames", "24:26"};
+const ScanRun& window_scan() { return scan(with(sample_pc2_inputs(), with({"--threads", "2"}, kWindow))); }
+
+/// An object's position in the report's object list, and its counts.
+struct ObjectInfo {
+  std::size_t index = 0;
+  std::size_t vertices = 0, triangles = 0;
+};
+
+std::map<std::string, ObjectInfo> objects_of(const json& report) {
+  std::map<std::string, ObjectInfo> objects;
+  for (std::size_t i = 0; i < report.at("objects").size(); ++i) {
+    const json& o = report["objects"][i];
+    objects[o.at("name").get<std::string>()] = {i, o.at("vertices").get<std::size_t>(),
+                                                o.at("triangles").get<std::size_t>()};
+  }
+  return objects;
+}
+
+/// The key of one element reference in the global order of libcd: object
+/// first (objects are concatenated), then the local id; an edge by its sorted
+/// vertex pair (each object's edges are sorted by (lo, hi)).
+std::vector<std::size_t> element_key(const json& ref, const std::map<std::string, ObjectInfo>& objects) {
+  std::vector<std::size_t> key{objects.at(ref.at("object").get<std::string>()).index};
+  if (ref.contains("vertex")) key.push_back(ref["vertex"].get<std::size_t>());
+  if (ref.contains("face")) key.push_back(ref["face"].get<std::size_t>());
+  if (ref.contains("edge")) {
+    key.push_back(ref["edge"][0].get<std::size_t>());
+    key.push_back(ref["edge"][1].get<std::size_t>());
+  }
+  return key;
+}
+
+/// The documented order key of an event: frame, kind, type, a, b.
+using EventKey = std::tuple<std::size_t, int, int, std::vector<std::size_t>, std::vector<std::size_t>>;
+
+EventKey event_key(const json& event, const std::map<std::string, ObjectInfo>& objects) {
+  const std::string kind = event.at("kind");
+  const int kind_rank = kind == "collision" ? 0 : 1;
+  int type_rank = 2;  // intersections: triangle pairs
+  if (kind == "collision") type_rank = event.at("type") == "vf" ? 0 : 1;
+  return {event.at("frame").get<std::size_t>(), kind_rank, type_rank, element_key(event.at("a"), objects),
+          element_key(event.at("b"), objects)};
+}
+
+std::size_t count_kind(const json& events, const std::string& kind) {
+  std::size_t n = 0;
+  for (const json& e : events) n += e.at("kind") == kind;
+  return n;
+}
+
+json events_of_kind(const json& events, const std::string& kind) {
+  json selected = json::array();
+  for (const json& e : events) {
+    if (e.at("kind") == kind) selected.push_back(e);
+  }
+  return selected;
+}
+
+TEST(SnagScan, ReportHasTheDocumentedTopLevelKeys) {
+  const json& report = window_scan().report;
+  for (const char* key : {"version", "objects", "frames", "settings", "summary", "stages", "timing", "events"}) {
+    EXPECT_TRUE(report.contains(key)) << key;
+  }
+  EXPECT_EQ(report["version"], 1);
+  EXPECT_EQ(report["frames"].size(), 3u);
+  EXPECT_EQ(report["objects"].size(), 2u);
+  EXPECT_EQ(report["settings"]["mode"], "all");
+  EXPECT_EQ(report["settings"]["precision"], "certified");
+  EXPECT_EQ(report["certified"], true);
+}
+
+TEST(SnagScan, SampleHasCollisionsAndIntersectionsAndExitsOne) {
+  const ScanRun& run = window_scan();
+  EXPECT_EQ(run.process.exit_code, 1);
+  EXPECT_GT(count_kind(run.report["events"], "collision"), 0u);
+  EXPECT_GT(count_kind(run.report["events"], "intersection"), 0u);
+}
+
+void expect_summary_counts_match_events(const json& report) {
+  const json& events = report["events"];
+  const json& summary = report["summary"];
+  std::size_t vf = 0, ee = 0, uncertain = 0;
+  for (const json& e : events) {
+    if (e["kind"] != "collision") continue;
+    vf += e["type"] == "vf";
+    ee += e["type"] == "ee";
+    uncertain += e["certainty"] == "uncertain";
+  }
+  EXPECT_EQ(summary["events"], events.size());
+  EXPECT_EQ(summary["collisions"], count_kind(events, "collision"));
+  EXPECT_EQ(summary["intersections"], count_kind(events, "intersection"));
+  EXPECT_EQ(summary["vf"], vf);
+  EXPECT_EQ(summary["ee"], ee);
+  EXPECT_EQ(summary["uncertain"], 0u);  // certified: nothing left undecided
+  EXPECT_EQ(uncertain, 0u);
+  // per_frame adds up to the totals, frame by frame.
+  std::map<std::size_t, std::size_t> collisions_per_frame, intersections_per_frame;
+  for (const json& e : events) {
+    (e["kind"] == "collision" ? collisions_per_frame : intersections_per_frame)[e["frame"].get<std::size_t>()]++;
+  }
+  for (const json& f : summary["per_frame"]) {
+    const std::size_t frame = f["frame"];
+    EXPECT_EQ(f["collisions"], collisions_per_frame[frame]) << "frame " << frame;
+    EXPECT_EQ(f["intersections"], intersections_per_frame[frame]) << "frame " << frame;
+  }
+}
+
+void expect_events_sorted_without_duplicates(const json& report) {
+  const auto objects = objects_of(report);
+  const json& events = report["events"];
+  for (std::size_t i = 1; i < events.size(); ++i) {
+    ASSERT_LT(event_key(events[i - 1], objects), event_key(events[i], objects))
+        << "events " << i - 1 << " and " << i << ":\n" << events[i - 1].dump() << "\n" << events[i].dump();
+  }
+}
+
+void expect_collisions_well_formed(const json& report) {
+  const double last_frame = report.at("frames").back().at("index").get<double>();
+  const auto objects = objects_of(report);
+  std::size_t checked = 0;
+  for (const json& e : report["events"]) {
+    if (e["kind"] != "collision") continue;
+    SCOPED_TRACE(e.dump());
+    const double frame = e["frame"].get<double>();
+    ASSERT_TRUE(e["type"] == "vf" || e["type"] == "ee");
+    const double toi = e["toi"];
+    EXPECT_GE(toi, frame);
+    EXPECT_LE(toi, frame + 1);
+    EXPECT_LE(e["toi_interval"][0].get<double>(), toi);
+    EXPECT_GE(e["toi_interval"][1].get<double>(), toi);
+    EXPECT_LE(e["toi_interval"][1].get<double>(), frame + 1);
+    EXPECT_EQ(e["certainty"], "proven");
+    EXPECT_LT(frame, last_frame);  // collisions are steps f -> f + 1 within the frames scanned
+    const ObjectInfo& a = objects.at(e["a"]["object"].get<std::string>());
+    const ObjectInfo& b = objects.at(e["b"]["object"].get<std::string>());
+    if (e["type"] == "vf") {
+      EXPECT_LT(e["a"].at("vertex").get<std::size_t>(), a.vertices);
+      EXPECT_LT(e["b"].at("face").get<std::size_t>(), b.triangles);
+    } else {
+      for (const auto& [ref, object] : {std::pair{e["a"], a}, std::pair{e["b"], b}}) {
+        const std::size_t lo = ref.at("edge")[0], hi = ref.at("edge")[1];
+        EXPECT_LT(lo, hi);
+        EXPECT_LT(hi, object.vertices);
+      }
+      // EE pairs share no vertex.
+      if (e["a"]["object"] == e["b"]["object"]) {
+        const std::set<std::size_t> ends{e["a"]["edge"][0], e["a"]["edge"][1], e["b"]["edge"][0], e["b"]["edge"][1]};
+        EXPECT_EQ(ends.size(), 4u);
+      }
+    }
+    EXPECT_EQ(e["position"].size(), 3u);
+    ++checked;
+  }
+  EXPECT_GT(checked, 0u);
+}
+
+void expect_intersections_well_formed(const json& report) {
+  const auto objects = objects_of(report);
+  for (const json& e : report["events"]) {
+    if (e["kind"] != "intersection") continue;
+    SCOPED_TRACE(e.dump());
+    EXPECT_LE(e["frame"].get<std::size_t>(), report.at("frames").back().at("index").get<std::size_t>());
+    EXPECT_LT(e["a"].at("face").get<std::size_t>(), objects.at(e["a"]["object"].get<std::string>()).triangles);
+    EXPECT_LT(e["b"].at("face").get<std::size_t>(), objects.at(e["b"]["object"].get<std::string>()).triangles);
+    EXPECT_FALSE(e.contains("toi"));
+  }
+}
+
+TEST(SnagScan, SummaryCountsMatchTheEvents) { expect_summary_counts_match_events(window_scan().report); }
+
+TEST(SnagScan, EventsAreSortedByFrameKindTypeAndIdsWithoutDuplicates) {
+  expect_events_sorted_without_duplicates(window_scan().report);
+}
+
+TEST(SnagScan, CollisionsHaveTypeTimeOfImpactAndIdsInRange) { expect_collisions_well_formed(window_scan().report); }
+
+TEST(SnagScan, IntersectionsNameTwoFacesInRange) { expect_intersections_well_formed(window_scan().report); }
+
+TEST(SnagScan, TwoRunsGiveIdenticalEventsAndSummary) {
+  const json& first = window_scan().report;
+  ASSERT_GT(first["events"].size(), 100u);
+  // The same scan again: a new process, not the remembered run.
+  TemporaryDirectory dir;
+  const ProcessResult again = snag_scan(
+      with(sample_pc2_inputs(), with({"--threads", "2", "-q", "-r", dir.path("again.json")}, kWindow)));
+  ASSERT_EQ(again.exit_code, 1) << again.err;
+  const json second = json::parse(read_file(dir.path("again.json")));
+  EXPECT_TRUE(first["events"] == second["events"]);
+  EXPECT_TRUE(first["summary"] == second["summary"]);
+  EXPECT_TRUE(first["stages"] == second["stages"]);
+}
+
+TEST(SnagScan, OneThreadAndTwoThreadsGiveIdenticalEvents) {
+  const json& two = window_scan().report;
+  const json& one = scan(with(sample_pc2_inputs(), with({"--threads", "1"}, kWindow))).report;
+  EXPECT_EQ(one["settings"]["threads"], 1);
+  EXPECT_TRUE(one["events"] == two["events"]);
+  EXPECT_TRUE(one["summary"] == two["summary"]);
+}
+
+TEST(SnagScan, PointCachesAndObjSequenceGiveIdenticalEvents) {
+  const json& pc2 = window_scan().report;
+  const json& obj = scan(with({kObjPattern, "--threads", "2"}, kWindow)).report;
+  EXPECT_TRUE(pc2["objects"] == obj["objects"]) << pc2["objects"].dump() << "\n" << obj["objects"].dump();
+  EXPECT_TRUE(pc2["events"] == obj["events"]);
+  EXPECT_TRUE(pc2["summary"] == obj["summary"]);
+}
+
+TEST(SnagScan, CcdModeReportsOnlyTheCollisionsOfTheSameFrames) {
+  const json& all = window_scan().report;
+  const ScanRun& ccd = scan(with(sample_pc2_inputs(), with({"--threads", "2", "--mode", "ccd"}, kWindow)));
+  EXPECT_EQ(ccd.report["settings"]["mode"], "ccd");
+  EXPECT_EQ(count_kind(ccd.report["events"], "intersection"), 0u);
+  EXPECT_TRUE(ccd.report["events"] == events_of_kind(all["events"], "collision"));
+  EXPECT_EQ(ccd.report["summary"]["intersections"], 0);
+}
+
+TEST(SnagScan, DcdModeReportsOnlyTheIntersectionsOfTheSameFrames) {
+  const json& all = window_scan().report;
+  const ScanRun& dcd = scan(with(sample_pc2_inputs(), with({"--threads", "2", "--mode", "dcd"}, kWindow)));
+  EXPECT_EQ(dcd.report["settings"]["mode"], "dcd");
+  EXPECT_EQ(count_kind(dcd.report["events"], "collision"), 0u);
+  EXPECT_TRUE(dcd.report["events"] == events_of_kind(all["events"], "intersection"));
+  EXPECT_EQ(dcd.report["summary"]["collisions"], 0);
+}
+
+TEST(SnagScan, WholeSampleReportIsWellFormedWithIntersectionsFromFrame15On) {
+  const ScanRun& run = full_scan();
+  EXPECT_EQ(run.process.exit_code, 1);
+  const json& report = run.report;
+  EXPECT_EQ(report["frames"].size(), 40u);
+  expect_summary_counts_match_events(report);
+  expect_events_sorted_without_duplicates(report);
+  expect_collisions_well_formed(report);
+  expect_intersections_well_formed(report);
+  // samples/README.md: Blender frames 1-15 (0-based 0-14) hold no
+  // intersecting pair; 16-40 all do (14 to 562 pairs by a float test).
+  std::set<std::size_t> frames;
+  for (const json& e : report["events"]) {
+    if (e["kind"] == "intersection") frames.insert(e["frame"].get<std::size_t>());
+  }
+  ASSERT_FALSE(frames.empty());
+  EXPECT_GE(*frames.begin(), 14u);  // a near-touching pair may appear a frame early in exact arithmetic
+  for (std::size_t f = 16; f < 40; ++f) EXPECT_TRUE(frames.count(f)) << "frame " << f;
+}
+
+TEST(SnagScan, FailOnZeroExitsCleanEvenWithEvents) {
+  const ScanRun& run = scan(with(sample_pc2_inputs(), {"--frames", "20:22", "--fail-on", "0"}));
+  EXPECT_EQ(run.process.exit_code, 0) << run.process.err;
+  EXPECT_GT(run.report["events"].size(), 0u);
+}
+
+TEST(SnagScan, FailOnThresholdComparesWithTheEventCount) {
+  const ScanRun& run = scan(with(sample_pc2_inputs(), {"--frames", "20:22"}));
+  EXPECT_EQ(run.process.exit_code, 1);  // default --fail-on 1, events exist
+  const std::size_t events = run.report["events"].size();
+  ASSERT_GT(events, 0u);
+  EXPECT_EQ(scan(with(sample_pc2_inputs(), {"--frames", "20:22", "--fail-on", std::to_string(events)}))
+                .process.exit_code,
+            1);
+  EXPECT_EQ(scan(with(sample_pc2_inputs(), {"--frames", "20:22", "--fail-on", std::to_string(events + 1)}))
+                .process.exit_code,
+            0);
+}
+
+TEST(SnagScan, CleanFramesExitZero) {
+  // The first frames: the cloth falls freely, far from the ball and itself.
+  const ScanRun& run = scan(with(sample_pc2_inputs(), {"--frames", "0:3"}));
+  EXPECT_EQ(run.process.exit_code, 0) << run.process.err;
+  EXPECT_EQ(run.report["events"].size(), 0u);
+}
+
+TEST(SnagScan, ReportDashWritesTheReportToStandardOutput) {
+  const std::vector<std::string> options{"--frames", "20:22", "-q", "--fail-on", "0"};
+  const ProcessResult to_stdout = snag_scan(with(with(sample_pc2_inputs(), options), {"--report", "-"}));
+  ASSERT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
+  const json from_stdout = json::parse(to_stdout.out);
+  const json& from_file = scan(with(sample_pc2_inputs(), {"--frames", "20:22", "--fail-on", "0"})).report;
+  EXPECT_TRUE(from_stdout["events"] == from_file["events"]);
+  EXPECT_TRUE(from_stdout["summary"] == from_file["summary"]);
+}
+
+TEST(SnagScan, FastPrecisionIsNotCertifiedAndKeepsEveryCertifiedEvent) {
+  // Fast mode reports uncertain answers as such: a superset of the certified
+  // collisions (conservative), and the same intersections.
+  const std::vector<std::string> options = with({"--threads", "2"}, kWindow);
+  const json& fast = scan(with(sample_pc2_inputs(), with({"--precision", "fast"}, options))).report;
+  const json& certified = window_scan().report;
+  EXPECT_EQ(fast["certified"], false);
+  EXPECT_EQ(fast["settings"]["precision"], "fast");
+  EXPECT_EQ(certified["certified"], true);
+  EXPECT_TRUE(events_of_kind(fast["events"], "intersection") == events_of_kind(certified["events"], "intersection"));
+  const auto objects = objects_of(fast);
+  std::set<EventKey> fast_keys;
+  for (const json& e : fast["events"]) fast_keys.insert(event_key(e, objects));
+  for (const json& e : certified["events"]) {
+    EXPECT_TRUE(fast_keys.count(event_key(e, objects))) << "missing in fast mode: " << e.dump();
+  }
+}
+
+TEST(SnagScanRejects, CudaBackendWithAClearMessage) {
+  const ProcessResult result = snag_scan(with(sample_pc2_inputs(), {"--backend", "cuda", "-q", "-r", "-"}));
+  EXPECT_EQ(result.exit_code, 2);
+  const auto lines = lines_of(result.err);
+  ASSERT_EQ(lines.size(), 1u) << result.err;
+  EXPECT_NE(lines[0].find("cuda"), std::string::npos) << lines[0];
+  EXPECT_TRUE(result.out.empty());
+}
+
+TEST(SnagScanRejects, UnknownOptionAndBadValues) {
+  EXPECT_EQ(snag_scan(with(sample_pc2_inputs(), {"--no-such-option"})).exit_code, 2);
+  EXPECT_EQ(snag_scan(with(sample_pc2_inputs(), {"--mode", "both"})).exit_code, 2);
+  EXPECT_EQ(snag_scan(with(sample_pc2_inputs(), {"--precision", "sloppy"})).exit_code, 2);
+  EXPECT_EQ(snag_scan(with(sample_pc2_inputs(), {"--thickness", "-1"})).exit_code, 2);
+}
+
+TEST(SnagScanRejects, BadFrameSelection) {
+  const ProcessResult result = snag_scan(with(sample_pc2_inputs(), {"--frames", "9:3", "-r", "-"}));
+  EXPECT_EQ(result.exit_code, 2);
+  const auto lines = lines_of(result.err);
+  ASSERT_EQ(lines.size(), 1u) << result.err;
+  EXPECT_NE(lines[0].find("frame"), std::string::npos);
+}
+
+TEST(SnagScanRejects, MissingInputNamesTheFile) {
+  TemporaryDirectory dir;
+  const ProcessResult result = snag_scan({dir.path("gone.obj"), "-r", "-"});
+  EXPECT_EQ(result.exit_code, 2);
+  const auto lines = lines_of(result.err);
+  ASSERT_EQ(lines.size(), 1u) << result.err;
+  EXPECT_NE(lines[0].find("gone.obj"), std::string::npos);
+}
+
+TEST(SnagScanRejects, UnwritableReportPath) {
+  TemporaryDirectory dir;
+  const ProcessResult result =
+      snag_scan(with(sample_pc2_inputs(), {"--frames", "0:1", "-q", "-r", dir.path("no/such/dir/report.json")}));
+  EXPECT_EQ(result.exit_code, 2) << result.err;
+  EXPECT_EQ(lines_of(result.err).size(), 1u) << result.err;
+}
+
+}  // namespace
+}  // namespace snag::test
