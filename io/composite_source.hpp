@@ -20,6 +20,7 @@ class CompositeSource : public FrameSource {
   const Scene& scene() const override { return scene_; }
   std::size_t frame_count() const override { return parts_.front()->frame_count(); }
   double frame_time(std::size_t i) const override { return parts_.front()->frame_time(i); }
+  std::size_t frame_index(std::size_t i) const override { return parts_.front()->frame_index(i); }
   void read_frame(std::size_t i, std::vector<Vec3>& positions) const override;
   std::string description() const override;
 

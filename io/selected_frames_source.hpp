@@ -17,6 +17,7 @@ class SelectedFramesSource : public FrameSource {
   const Scene& scene() const override { return source_->scene(); }
   std::size_t frame_count() const override { return count_; }
   double frame_time(std::size_t i) const override { return source_->frame_time(source_index(i)); }
+  std::size_t frame_index(std::size_t i) const override { return source_->frame_index(source_index(i)); }
   void read_frame(std::size_t i, std::vector<Vec3>& positions) const override {
     source_->read_frame(source_index(i), positions);
   }

@@ -84,12 +84,12 @@ ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSet
   if (frame_count > 0) read(0, current);
   for (std::size_t f = 0; f < frame_count; ++f) {
     FrameSummary summary;
-    summary.frame = f;
+    summary.frame = source.frame_index(f);
     if (settings.intersections) {
       found.clear();
       backend.intersections(current, found);
       result.stats.add(backend.stats());
-      for (Event& event : found) event.frame = f;
+      for (Event& event : found) event.frame = summary.frame;
       summary.intersections = found.size();
       result.events.insert(result.events.end(), found.begin(), found.end());
     }
@@ -100,7 +100,7 @@ ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       backend.collisions(current, next, found);
       result.stats.add(backend.stats());
       for (Event& event : found) {
-        event.frame = f;
+        event.frame = summary.frame;
         ++summary.collisions;
         summary.vertex_face += event.type == ContactType::kVertexFace;
         summary.edge_edge += event.type == ContactType::kEdgeEdge;

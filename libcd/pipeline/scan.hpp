@@ -23,7 +23,7 @@ struct ScanSettings {
 
 /// Per-frame (intersections) and per-step (collisions) event counts.
 struct FrameSummary {
-  std::size_t frame = 0;
+  std::size_t frame = 0;  ///< the cache's own 0-based frame index (FrameSource::frame_index)
   std::size_t collisions = 0, vertex_face = 0, edge_edge = 0, uncertain = 0;
   std::size_t intersections = 0;
 };

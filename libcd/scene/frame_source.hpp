@@ -22,6 +22,9 @@ class FrameSource {
   /// Time of frame i in the cache's own frame numbering (e.g. 1, 2, 3 ... or
   /// seconds × rate for animated files); used for reporting only.
   virtual double frame_time(std::size_t i) const { return static_cast<double>(i); }
+  /// The cache's own 0-based index of frame i (differs from i when a frame
+  /// selection is applied); reports name frames by it.
+  virtual std::size_t frame_index(std::size_t i) const { return i; }
   /// Reads frame i's global vertex positions (scene().vertex_count() of them)
   /// into `positions`, resizing it. Throws InputError on bad data.
   virtual void read_frame(std::size_t i, std::vector<Vec3>& positions) const = 0;

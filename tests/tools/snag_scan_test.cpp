@@ -231,6 +231,17 @@ TEST(SnagScan, CollisionsHaveTypeTimeOfImpactAndIdsInRange) { expect_collisions_
 
 TEST(SnagScan, IntersectionsNameTwoFacesInRange) { expect_intersections_well_formed(window_scan().report); }
 
+TEST(SnagScan, FrameSelectionKeepsTheCacheFrameNumbers) {
+  const json& report = window_scan().report;
+  ASSERT_EQ(report.at("frames").size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(report["frames"][i].at("index").get<std::size_t>(), 24 + i);
+  ASSERT_FALSE(report.at("events").empty());
+  for (const json& e : report["events"]) {
+    EXPECT_GE(e.at("frame").get<std::size_t>(), 24u);
+    EXPECT_LE(e.at("frame").get<std::size_t>(), 26u);
+  }
+}
+
 TEST(SnagScan, TwoRunsGiveIdenticalEventsAndSummary) {
   const json& first = window_scan().report;
   ASSERT_GT(first["events"].size(), 100u);

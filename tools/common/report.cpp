@@ -82,8 +82,9 @@ json make_report(const FrameSource& source, const ScanResult& result, const Repo
   json frames = json::array();
   std::size_t collisions = 0, vf = 0, ee = 0, intersections = 0, uncertain = 0;
   json per_frame = json::array();
-  for (const FrameSummary& f : result.frames) {
-    frames.push_back({{"index", f.frame}, {"time", source.frame_time(f.frame)}});
+  for (std::size_t i = 0; i < result.frames.size(); ++i) {
+    const FrameSummary& f = result.frames[i];
+    frames.push_back({{"index", f.frame}, {"time", source.frame_time(i)}});
     per_frame.push_back({{"frame", f.frame},
                          {"collisions", f.collisions},
                          {"vf", f.vertex_face},
