@@ -73,7 +73,7 @@ NarrowPhaseBenchmark benchmark_narrow_phase(const Scene& scene, const std::vecto
       }
     }
     std::vector<std::uint32_t> hits;
-    PredicateCounters counters;
+    TrianglePairCounts counters;
     narrow.reset_timings();
     narrow.triangle_pairs(d_x_t1.data(), d_triangles.data(), d_pairs.data(), pairs.size(), hits, counters);
     if (run >= warmup) static_ms.push_back(narrow.timings().static_ms + narrow.timings().compact_ms);

@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -222,7 +223,11 @@ Options parse(int argc, char** argv) {
     }
   }
   if (const char* d = std::getenv("SNAG_SHARED_DATA_DIR"); d != nullptr && *d != '\0') options.data_dir = d;
-  if (const char* d = std::getenv("SNAG_SAMPLES_DIR"); d != nullptr && *d != '\0') options.samples_dir = d;
+  if (const char* d = std::getenv("SNAG_SAMPLES_DIR"); d != nullptr && *d != '\0') {
+    options.samples_dir = d;
+  } else if (std::filesystem::is_directory(std::filesystem::path(options.data_dir) / ".." / "samples" / "cloth_ball")) {
+    options.samples_dir = (std::filesystem::path(options.data_dir) / ".." / "samples").string();  // the GPU bundle
+  }
   return options;
 }
 

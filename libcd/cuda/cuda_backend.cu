@@ -190,11 +190,11 @@ class CudaBackend final : public Backend {
     upload_candidates(pairs_, pairs_device_, "triangle pairs");
     wait_for(slot);
     std::vector<std::uint32_t> hits;
-    PredicateCounters counters;
+    TrianglePairCounts counts;
     narrow_.triangle_pairs(slots_[slot].device.data(), triangles_.data(), pairs_device_.data(), pairs_.size(), hits,
-                           counters);
-    stats_.narrow.predicate_calls = counters.calls;
-    stats_.narrow.predicate_exact = counters.exact;
+                           counts);
+    stats_.narrow.predicate_calls = counts.predicate_calls;
+    stats_.narrow.predicate_exact = counts.predicate_exact;
     stats_.narrow.triangle_tests = pairs_.size();
     const auto& triangles = scene_->triangles();
     for (const std::uint32_t i : hits) {
@@ -229,7 +229,8 @@ class CudaBackend final : public Backend {
     const std::size_t bytes = x.size() * sizeof(Vec3);
     for (int s = 0; s < 2; ++s) {
       FrameSlot& slot = slots_[s];
-      if (slot.valid && slot.mirror.size() == x.size() && std::memcmp(slot.mirror.data(), x.data(), bytes) == 0) {
+      if (slot.valid && slot.mirror.size() == x.size() &&
+          (bytes == 0 || std::memcmp(slot.mirror.data(), x.data(), bytes) == 0)) {
         slot.last_use = use_clock_;
         return s;
       }

@@ -211,7 +211,7 @@ void CudaNarrowPhase::edge_edge(const Vec3* x_t0, const Vec3* x_t1, const Edge* 
 
 void CudaNarrowPhase::triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
                                      std::size_t count, std::vector<std::uint32_t>& hits,
-                                     PredicateCounters& counters) {
+                                     TrianglePairCounts& counts) {
   if (count == 0) return;
   if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 pairs per call", 0);
   CudaEvent start, tested;
@@ -232,8 +232,8 @@ void CudaNarrowPhase::triangle_pairs(const Vec3* x, const Triangle* triangles, c
   CudaEvent done;
   done.record(stream_);
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
-  counters.calls += sums[0];
-  counters.exact += sums[1];
+  counts.predicate_calls += sums[0];
+  counts.predicate_exact += sums[1];
   timings_.static_ms += CudaEvent::elapsed_ms(start, tested);
   timings_.compact_ms += CudaEvent::elapsed_ms(tested, done);
 }

@@ -28,7 +28,6 @@
 
 #include "libcd/broad_phase/candidates.hpp"
 #include "libcd/cuda/device_buffer.cuh"
-#include "libcd/geometry/predicates.hpp"
 #include "libcd/geometry/vec3.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
 #include "libcd/scene/mesh.hpp"
@@ -46,6 +45,16 @@ enum class CcdPasses {
 struct CcdHit {
   std::uint32_t candidate = 0;
   CcdResult result;
+};
+
+/// Orientation predicates evaluated by the static test, and how many needed
+/// the exact stage (PredicateCounters of predicates.hpp, summed per block).
+/// predicates.hpp is kept out of this header: its out-of-line exact stages
+/// are not `inline` under nvcc, so a second CUDA translation unit including it
+/// would define them twice.
+struct TrianglePairCounts {
+  unsigned long long predicate_calls = 0;
+  unsigned long long predicate_exact = 0;
 };
 
 /// Milliseconds of the last call, measured with CUDA events on its stream.
@@ -80,10 +89,9 @@ class CudaNarrowPhase {
 
   /// Static test of `count` triangle pairs at positions x (#V): appends the
   /// indices of the intersecting pairs, in order, to `hits`, and adds the
-  /// predicate counters (summed per block) to `counters`. Waits for the
-  /// stream. Throws CudaError.
+  /// predicate counts to `counts`. Waits for the stream. Throws CudaError.
   void triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs, std::size_t count,
-                      std::vector<std::uint32_t>& hits, PredicateCounters& counters);
+                      std::vector<std::uint32_t>& hits, TrianglePairCounts& counts);
 
   /// Timings of the calls since the last reset.
   const NarrowPhaseTimings& timings() const { return timings_; }

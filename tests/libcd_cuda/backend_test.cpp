@@ -8,6 +8,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -181,9 +182,14 @@ TEST_F(BackendEquality, FrameRefilledInPlaceIsUploadedAgain) {
   EXPECT_GT(pair.collisions_found, 0u);
 }
 
+/// The sample caches: $SNAG_SAMPLES_DIR; else samples/ next to the reference
+/// data named by $SNAG_SHARED_DATA_DIR (the GPU bundle's layout); else the
+/// source tree's.
 std::string samples_dir() {
   const char* from_environment = std::getenv("SNAG_SAMPLES_DIR");
   if (from_environment != nullptr && *from_environment != '\0') return from_environment;
+  const std::filesystem::path beside_data = std::filesystem::path(test::shared_data_dir()) / ".." / "samples";
+  if (std::filesystem::is_directory(beside_data / "cloth_ball")) return beside_data.string();
   return std::string(SNAG_SOURCE_DIR) + "/samples";
 }
 

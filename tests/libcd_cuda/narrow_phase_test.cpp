@@ -1,4 +1,5 @@
-// The GPU narrow phase (libcd/cuda/narrow_phase.cuh) against the CPU
+// The GPU narrow phase (libcd/cuda/narrow_phase.cuh; plain C++ here, so the
+// CPU oracles are compiled by the host compiler) against the CPU
 // functions it runs: every query of the exact ground-truth sets
 // (../shared/data/ccd-queries) in one batch per kind, with both schedules
 // (screen then search, single pass): no false negatives, and each hit and its
@@ -191,23 +192,23 @@ TEST_F(NarrowPhaseTrianglePairs, MatchesCpuOnRandomPairsWithSharedVertices) {
   d_pairs.upload(pairs);
   CudaNarrowPhase narrow(nullptr);
   std::vector<std::uint32_t> gpu_hits;
-  PredicateCounters gpu_counters;
-  narrow.triangle_pairs(d_x.data(), d_triangles.data(), d_pairs.data(), pairs.size(), gpu_hits, gpu_counters);
+  TrianglePairCounts gpu_counts;
+  narrow.triangle_pairs(d_x.data(), d_triangles.data(), d_pairs.data(), pairs.size(), gpu_hits, gpu_counts);
   EXPECT_EQ(gpu_hits, cpu_hits);
-  EXPECT_EQ(gpu_counters.calls, cpu_counters.calls);
-  EXPECT_EQ(gpu_counters.exact, cpu_counters.exact);
+  EXPECT_EQ(gpu_counts.predicate_calls, cpu_counters.calls);
+  EXPECT_EQ(gpu_counts.predicate_exact, cpu_counters.exact);
 }
 
 TEST_F(NarrowPhaseTrianglePairs, EmptyInputGivesNoHits) {
   CudaNarrowPhase narrow(nullptr);
   std::vector<std::uint32_t> hits;
-  PredicateCounters counters;
-  narrow.triangle_pairs(nullptr, nullptr, nullptr, 0, hits, counters);
+  TrianglePairCounts counts;
+  narrow.triangle_pairs(nullptr, nullptr, nullptr, 0, hits, counts);
   std::vector<CcdHit> ccd_hits;
   narrow.vertex_face(nullptr, nullptr, nullptr, nullptr, 0, CcdSettings{}, CcdPasses::kScreenThenSearch, ccd_hits);
   EXPECT_TRUE(hits.empty());
   EXPECT_TRUE(ccd_hits.empty());
-  EXPECT_EQ(counters.calls, 0u);
+  EXPECT_EQ(counts.predicate_calls, 0u);
 }
 
 }  // namespace
