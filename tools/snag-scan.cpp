@@ -16,6 +16,10 @@
 #if SNAG_HAVE_CGAL
 #include "validate/exact_certifier.hpp"
 #endif
+#if SNAG_HAVE_CUDA
+#include "libcd/cuda/cuda_backend.hpp"
+#include "libcd/cuda/device.hpp"
+#endif
 
 namespace {
 
@@ -31,11 +35,20 @@ struct ScanOptions {
   std::string precision = "certified";
 };
 
+// auto: the CUDA back end when this build has it and a usable device is
+// present, else the CPU one. cuda: the CUDA back end or a usage error (exit 2)
+// saying why it cannot run.
 std::unique_ptr<snag::Backend> choose_backend(const std::string& requested) {
+  if (requested == "cpu") return snag::make_cpu_backend();
+#if SNAG_HAVE_CUDA
+  const snag::CudaDeviceInfo device = snag::query_cuda_device();
+  if (device.available) return snag::make_cuda_backend();
+  if (requested == "cuda") throw snag::UsageError("--backend cuda: " + device.why_not);
+#else
   if (requested == "cuda") {
-    throw snag::UsageError(
-        "--backend cuda: this version of snag-scan has no CUDA back end for the pipeline yet; use --backend cpu");
+    throw snag::UsageError("--backend cuda: this build has no CUDA back end: configure with -DSNAG_WITH_CUDA=ON");
   }
+#endif
   return snag::make_cpu_backend();
 }
 

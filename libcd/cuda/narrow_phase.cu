@@ -1,0 +1,241 @@
+// The GPU narrow phase (see narrow_phase.cuh): one thread per candidate,
+// compaction with cub::DeviceSelect::Flagged (order-preserving).
+#include "libcd/cuda/narrow_phase.cuh"
+
+#include <thrust/iterator/counting_iterator.h>
+
+#include <cub/block/block_reduce.cuh>
+#include <cub/device/device_select.cuh>
+
+#include "libcd/cuda/cuda_check.cuh"
+#include "libcd/cuda/cuda_event.cuh"
+#include "libcd/narrow_phase/edge_edge_ccd.hpp"
+#include "libcd/narrow_phase/triangle_triangle.hpp"
+#include "libcd/narrow_phase/vertex_face_ccd.hpp"
+
+namespace snag {
+
+namespace {
+
+static_assert(sizeof(Triangle) == 3 * sizeof(Index), "Triangle must be three packed vertex ids");
+static_assert(sizeof(Edge) == 2 * sizeof(Index), "Edge must be two packed vertex ids");
+
+constexpr int kBlockSize = 128;
+
+unsigned int blocks_for(std::size_t count) {
+  return static_cast<unsigned int>((count + kBlockSize - 1) / kBlockSize);
+}
+
+// The CCD kernels: thread i tests candidate subset[i] (or i when subset is
+// null) and writes its result and whether it is unresolved (not kNo) at i.
+__global__ void vertex_face_kernel(const Vec3* __restrict__ x_t0, const Vec3* __restrict__ x_t1,
+                                   const Index* __restrict__ corners,
+                                   const VertexFaceCandidate* __restrict__ candidates,
+                                   const std::uint32_t* __restrict__ subset, std::size_t count, CcdSettings settings,
+                                   CcdResult* __restrict__ results, unsigned char* __restrict__ unresolved) {
+  const std::size_t i = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (i >= count) return;
+  const VertexFaceCandidate c = candidates[subset != nullptr ? subset[i] : i];
+  const Index f0 = corners[3 * std::size_t{c.face}], f1 = corners[3 * std::size_t{c.face} + 1],
+              f2 = corners[3 * std::size_t{c.face} + 2];
+  const CcdResult result = vertex_face_ccd(x_t0[c.vertex], x_t0[f0], x_t0[f1], x_t0[f2], x_t1[c.vertex], x_t1[f0],
+                                           x_t1[f1], x_t1[f2], settings);
+  results[i] = result;
+  unresolved[i] = result.answer != CcdAnswer::kNo ? 1 : 0;
+}
+
+__global__ void edge_edge_kernel(const Vec3* __restrict__ x_t0, const Vec3* __restrict__ x_t1,
+                                 const Index* __restrict__ ends, const EdgeEdgeCandidate* __restrict__ candidates,
+                                 const std::uint32_t* __restrict__ subset, std::size_t count, CcdSettings settings,
+                                 CcdResult* __restrict__ results, unsigned char* __restrict__ unresolved) {
+  const std::size_t i = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (i >= count) return;
+  const EdgeEdgeCandidate c = candidates[subset != nullptr ? subset[i] : i];
+  const Index ea0 = ends[2 * std::size_t{c.edge_a}], ea1 = ends[2 * std::size_t{c.edge_a} + 1];
+  const Index eb0 = ends[2 * std::size_t{c.edge_b}], eb1 = ends[2 * std::size_t{c.edge_b} + 1];
+  const CcdResult result = edge_edge_ccd(x_t0[ea0], x_t0[ea1], x_t0[eb0], x_t0[eb1], x_t1[ea0], x_t1[ea1],
+                                         x_t1[eb0], x_t1[eb1], settings);
+  results[i] = result;
+  unresolved[i] = result.answer != CcdAnswer::kNo ? 1 : 0;
+}
+
+// The static test: thread i tests pair i; the predicate counters are summed
+// per block and added to counters[0] (calls) and counters[1] (exact).
+__global__ void triangle_pairs_kernel(const Vec3* __restrict__ x, const Index* __restrict__ corners,
+                                      const TrianglePair* __restrict__ pairs, std::size_t count,
+                                      unsigned char* __restrict__ intersecting,
+                                      unsigned long long* __restrict__ counters) {
+  using Reduce = cub::BlockReduce<unsigned long long, kBlockSize>;
+  __shared__ typename Reduce::TempStorage calls_storage, exact_storage;
+  const std::size_t i = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  PredicateCounters local;
+  if (i < count) {
+    const TrianglePair pair = pairs[i];
+    Index a_ids[3], b_ids[3];
+    Vec3 a[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+      a_ids[k] = corners[3 * std::size_t{pair.a} + k];
+      b_ids[k] = corners[3 * std::size_t{pair.b} + k];
+      a[k] = x[a_ids[k]];
+      b[k] = x[b_ids[k]];
+    }
+    intersecting[i] = triangles_intersect(a, a_ids, b, b_ids, &local) ? 1 : 0;
+  }
+  const unsigned long long calls = Reduce(calls_storage).Sum(local.calls);
+  const unsigned long long exact = Reduce(exact_storage).Sum(local.exact);
+  if (threadIdx.x == 0) {
+    atomicAdd(&counters[0], calls);
+    atomicAdd(&counters[1], exact);
+  }
+}
+
+// cub::DeviceSelect::Flagged with temporary storage from `temp`; the number
+// selected is written to *selected_count on the device.
+template <class Input, class Output>
+void select_flagged_into(Input input, const unsigned char* flags, Output output, long long* selected_count,
+                         std::size_t count, DeviceBuffer<unsigned char>& temp, cudaStream_t stream) {
+  std::size_t bytes = 0;
+  const auto items = static_cast<std::int64_t>(count);
+  SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(nullptr, bytes, input, flags, output, selected_count, items, stream));
+  if (bytes > temp.size()) resize_or_throw(temp, bytes, "compaction scratch");
+  SNAG_CUDA_CHECK(
+      cub::DeviceSelect::Flagged(temp.data(), bytes, input, flags, output, selected_count, items, stream));
+}
+
+}  // namespace
+
+CudaNarrowPhase::CudaNarrowPhase(cudaStream_t stream)
+    : stream_(stream),
+      results_(0, stream),
+      searched_results_(0, stream),
+      flags_(0, stream),
+      searched_flags_(0, stream),
+      selected_(0, stream),
+      searched_selected_(0, stream),
+      selected_results_(0, stream),
+      selected_count_(1, stream),
+      counters_(2, stream),
+      temp_(0, stream) {}
+
+std::size_t CudaNarrowPhase::select_flagged(std::size_t count) {
+  resize_or_throw(selected_, count, "CCD candidate indices");
+  select_flagged_into(thrust::counting_iterator<std::uint32_t>(0), flags_.data(), selected_.data(),
+                      selected_count_.data(), count, temp_, stream_);
+  long long selected = 0;
+  SNAG_CUDA_CHECK(cudaMemcpyAsync(&selected, selected_count_.data(), sizeof selected, cudaMemcpyDeviceToHost,
+                                  stream_));
+  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
+  return static_cast<std::size_t>(selected);
+}
+
+template <class Launch>
+void CudaNarrowPhase::run_ccd(std::size_t count, const CcdSettings& settings, CcdPasses passes, Launch launch,
+                              std::vector<CcdHit>& hits) {
+  if (count == 0) return;
+  if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 candidates per call", 0);
+  const bool screen = passes == CcdPasses::kScreenThenSearch && settings.max_iterations > kScreenIterations;
+  CcdSettings first_pass = settings;
+  if (screen) first_pass.max_iterations = kScreenIterations;
+
+  CudaEvent start, screened, compacted, searched;
+  resize_or_throw(results_, count, "CCD results");
+  resize_or_throw(flags_, count, "CCD flags");
+  start.record(stream_);
+  launch(nullptr, count, first_pass, results_.data(), flags_.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+  screened.record(stream_);
+  const std::size_t survivors = select_flagged(count);
+  compacted.record(stream_);
+
+  std::vector<std::uint32_t> indices(survivors);
+  std::vector<CcdResult> results(survivors);
+  if (survivors > 0) {
+    if (screen) {
+      resize_or_throw(searched_results_, survivors, "CCD search results");
+      resize_or_throw(searched_flags_, survivors, "CCD search flags");
+      launch(selected_.data(), survivors, settings, searched_results_.data(), searched_flags_.data());
+      SNAG_CUDA_CHECK_LAUNCH();
+      searched.record(stream_);
+      searched_results_.download(results.data(), survivors);
+    } else {
+      resize_or_throw(selected_results_, survivors, "CCD hits");
+      select_flagged_into(results_.data(), flags_.data(), selected_results_.data(), selected_count_.data(), count,
+                          temp_, stream_);
+      searched.record(stream_);
+      selected_results_.download(results.data(), survivors);
+    }
+    selected_.download(indices.data(), survivors);
+  } else {
+    searched.record(stream_);
+  }
+  CudaEvent done;
+  done.record(stream_);
+  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
+  timings_.screen_ms += CudaEvent::elapsed_ms(start, screened);
+  if (screen) {
+    timings_.search_ms += CudaEvent::elapsed_ms(compacted, searched);
+    timings_.compact_ms += CudaEvent::elapsed_ms(screened, compacted) + CudaEvent::elapsed_ms(searched, done);
+    timings_.searched += survivors;
+  } else {
+    timings_.compact_ms += CudaEvent::elapsed_ms(screened, done);
+  }
+  for (std::size_t k = 0; k < survivors; ++k) {
+    if (results[k].answer == CcdAnswer::kNo) continue;  // the full search ruled it out
+    hits.push_back(CcdHit{indices[k], results[k]});
+  }
+}
+
+void CudaNarrowPhase::vertex_face(const Vec3* x_t0, const Vec3* x_t1, const Triangle* triangles,
+                                  const VertexFaceCandidate* candidates, std::size_t count,
+                                  const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits) {
+  const Index* corners = reinterpret_cast<const Index*>(triangles);
+  auto launch = [&](const std::uint32_t* subset, std::size_t n, const CcdSettings& s, CcdResult* results,
+                    unsigned char* unresolved) {
+    vertex_face_kernel<<<blocks_for(n), kBlockSize, 0, stream_>>>(x_t0, x_t1, corners, candidates, subset, n, s,
+                                                                   results, unresolved);
+  };
+  run_ccd(count, settings, passes, launch, hits);
+}
+
+void CudaNarrowPhase::edge_edge(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges,
+                                const EdgeEdgeCandidate* candidates, std::size_t count, const CcdSettings& settings,
+                                CcdPasses passes, std::vector<CcdHit>& hits) {
+  const Index* ends = reinterpret_cast<const Index*>(edges);
+  auto launch = [&](const std::uint32_t* subset, std::size_t n, const CcdSettings& s, CcdResult* results,
+                    unsigned char* unresolved) {
+    edge_edge_kernel<<<blocks_for(n), kBlockSize, 0, stream_>>>(x_t0, x_t1, ends, candidates, subset, n, s, results,
+                                                                 unresolved);
+  };
+  run_ccd(count, settings, passes, launch, hits);
+}
+
+void CudaNarrowPhase::triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
+                                     std::size_t count, std::vector<std::uint32_t>& hits,
+                                     TrianglePairCounts& counts) {
+  if (count == 0) return;
+  if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 pairs per call", 0);
+  CudaEvent start, tested;
+  resize_or_throw(flags_, count, "triangle-pair flags");
+  resize_or_throw(selected_, count, "triangle-pair indices");
+  counters_.fill_zero();
+  start.record(stream_);
+  triangle_pairs_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(
+      x, reinterpret_cast<const Index*>(triangles), pairs, count, flags_.data(), counters_.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+  tested.record(stream_);
+  const std::size_t intersecting = select_flagged(count);
+  const std::size_t first = hits.size();
+  hits.resize(first + intersecting);
+  selected_.download(hits.data() + first, intersecting);
+  unsigned long long sums[2] = {0, 0};
+  counters_.download(sums, 2);
+  CudaEvent done;
+  done.record(stream_);
+  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
+  counts.predicate_calls += sums[0];
+  counts.predicate_exact += sums[1];
+  timings_.static_ms += CudaEvent::elapsed_ms(start, tested);
+  timings_.compact_ms += CudaEvent::elapsed_ms(tested, done);
+}
+
+}  // namespace snag

@@ -1,0 +1,141 @@
+// The GPU narrow phase: one thread per candidate runs the same host/device
+// tests as the CPU back end (vertex_face_ccd and edge_edge_ccd of
+// libcd/narrow_phase/, triangles_intersect of triangle_triangle.hpp), then the
+// hits are compacted with cub::DeviceSelect::Flagged, which keeps the input
+// order, so the hits come back in candidate order exactly as on the CPU.
+//
+// CCD runs in two passes by default (CcdPasses::kScreenThenSearch):
+//  1. screen: every candidate runs the CCD function with a small iteration
+//     limit. The search is deterministic and a kNo is only returned once the
+//     box heap is empty, so a kNo within the limit is the unlimited answer;
+//  2. search: the few candidates the screen did not rule out are compacted
+//     and run again with the caller's settings, so the long inclusion
+//     searches run side by side in full warps instead of stalling warps of
+//     candidates that finished at once.
+// Both passes call the same function: the answers equal the one-pass ones.
+//
+// Resources (ptxas -v, sm_90, CUDA 13.0, --fmad=false): the CCD kernels use
+// 255 registers and a 16.8 kB stack frame per thread (the 16 kB box heap of
+// ccd_inclusion.hpp, plus about 1 kB of spills); the static kernel 222
+// registers and a 2.3 kB frame (the exact stages' expansions). The driver
+// reserves local memory for the frame on every resident thread of the
+// device, outside DeviceMemoryTracker's count.
+//
+// Device memory: every buffer is a DeviceBuffer (counted by
+// DeviceMemoryTracker); a buffer that cannot grow throws CudaError naming the
+// bytes it needed and the bytes free.
+#pragma once
+
+#include <cuda_runtime_api.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "libcd/broad_phase/candidates.hpp"
+#include "libcd/cuda/device_buffer.cuh"
+#include "libcd/geometry/vec3.hpp"
+#include "libcd/narrow_phase/ccd_result.hpp"
+#include "libcd/scene/mesh.hpp"
+
+namespace snag {
+
+/// How the CCD kernels are scheduled (see the file comment).
+enum class CcdPasses {
+  kScreenThenSearch,  ///< short screen over all candidates, full search over the compacted rest
+  kSinglePass,        ///< the full search over all candidates at once
+};
+
+/// A candidate the filter did not rule out: its index in the candidate list
+/// and its answer (kYes or kUncertain).
+struct CcdHit {
+  std::uint32_t candidate = 0;
+  CcdResult result;
+};
+
+/// Orientation predicates evaluated by the static test, and how many needed
+/// the exact stage (PredicateCounters of predicates.hpp, summed per block).
+/// predicates.hpp is kept out of this header: its out-of-line exact stages
+/// are not `inline` under nvcc, so a second CUDA translation unit including it
+/// would define them twice.
+struct TrianglePairCounts {
+  unsigned long long predicate_calls = 0;
+  unsigned long long predicate_exact = 0;
+};
+
+/// Milliseconds of the last call, measured with CUDA events on its stream.
+struct NarrowPhaseTimings {
+  float screen_ms = 0;   ///< CCD screen pass (or the single pass)
+  float search_ms = 0;   ///< CCD full search over the screen's survivors
+  float compact_ms = 0;  ///< compactions and downloads
+  float static_ms = 0;   ///< triangle-pair tests
+  std::size_t searched = 0;  ///< candidates that reached the search pass
+};
+
+/// Owns the device buffers of the narrow phase; reused from call to call.
+/// Not thread-safe; one stream per object at a time.
+class CudaNarrowPhase {
+ public:
+  /// Iterations of the screen pass (the CCD functions' max_iterations).
+  static constexpr int kScreenIterations = 16;
+
+  /// Buffers are allocated and used on `stream`.
+  explicit CudaNarrowPhase(cudaStream_t stream);
+
+  /// Vertex-face CCD of `count` candidates (device arrays): positions
+  /// x_t0/x_t1 (#V), triangles (#F). Appends the hits (answers other than
+  /// kNo) to `hits` in candidate order. Waits for the stream. Throws CudaError.
+  void vertex_face(const Vec3* x_t0, const Vec3* x_t1, const Triangle* triangles,
+                   const VertexFaceCandidate* candidates, std::size_t count, const CcdSettings& settings,
+                   CcdPasses passes, std::vector<CcdHit>& hits);
+
+  /// Edge-edge CCD, as vertex_face with edges (#E) instead of triangles.
+  void edge_edge(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges, const EdgeEdgeCandidate* candidates,
+                 std::size_t count, const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits);
+
+  /// Static test of `count` triangle pairs at positions x (#V): appends the
+  /// indices of the intersecting pairs, in order, to `hits`, and adds the
+  /// predicate counts to `counts`. Waits for the stream. Throws CudaError.
+  void triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs, std::size_t count,
+                      std::vector<std::uint32_t>& hits, TrianglePairCounts& counts);
+
+  /// Timings of the calls since the last reset.
+  const NarrowPhaseTimings& timings() const { return timings_; }
+  void reset_timings() { timings_ = NarrowPhaseTimings{}; }
+
+ private:
+  template <class Launch>
+  void run_ccd(std::size_t count, const CcdSettings& settings, CcdPasses passes, Launch launch,
+               std::vector<CcdHit>& hits);
+  std::size_t select_flagged(std::size_t count);
+
+  cudaStream_t stream_;
+  DeviceBuffer<CcdResult> results_, searched_results_;
+  DeviceBuffer<unsigned char> flags_, searched_flags_;
+  DeviceBuffer<std::uint32_t> selected_, searched_selected_;
+  DeviceBuffer<CcdResult> selected_results_;
+  DeviceBuffer<long long> selected_count_;
+  DeviceBuffer<unsigned long long> counters_;
+  DeviceBuffer<unsigned char> temp_;
+  NarrowPhaseTimings timings_;
+};
+
+/// Resizes `buffer` to `count`; when the device cannot hold it, throws
+/// CudaError naming `what`, the bytes needed and the bytes free.
+template <class T>
+void resize_or_throw(DeviceBuffer<T>& buffer, std::size_t count, const char* what) {
+  try {
+    buffer.resize(count);
+  } catch (const CudaError& error) {
+    std::size_t free_bytes = 0, total_bytes = 0;
+    (void)cudaMemGetInfo(&free_bytes, &total_bytes);
+    (void)cudaGetLastError();
+    throw CudaError("the GPU has too little memory for " + std::string(what) + ": " +
+                        std::to_string(count * sizeof(T)) + " bytes needed, " + std::to_string(free_bytes) +
+                        " of " + std::to_string(total_bytes) + " bytes free (" + error.what() + ")",
+                    error.code());
+  }
+}
+
+}  // namespace snag

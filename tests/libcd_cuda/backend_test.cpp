@@ -1,0 +1,231 @@
+// The CUDA back end against the CPU back end (its oracle): the same event
+// vectors, bit for bit (kind, type, ids, times of impact, positions,
+// certainty), and the same narrow-phase counts, on random soups of uneven
+// sizes, on frames refilled in place (the device frame cache must not serve a
+// stale frame), on the sample cache through scan_cache, and on the real
+// cloth_ball92 -> 93 step.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "gpu_test.hpp"
+#include "io/open_cache.hpp"
+#include "libcd/cuda/cuda_backend.hpp"
+#include "libcd/pipeline/scan.hpp"
+#include "ply_mesh.hpp"
+#include "snag/config.hpp"
+#if SNAG_HAVE_CGAL
+#include "validate/exact_certifier.hpp"
+#endif
+
+namespace snag {
+namespace {
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void expect_same_events(const std::vector<Event>& cpu, const std::vector<Event>& gpu, const std::string& where) {
+  ASSERT_EQ(cpu.size(), gpu.size()) << where;
+  for (std::size_t i = 0; i < cpu.size(); ++i) {
+    const Event& c = cpu[i];
+    const Event& g = gpu[i];
+    const bool same = c.kind == g.kind && c.type == g.type && c.frame == g.frame && c.a == g.a && c.b == g.b &&
+                      same_bits(c.toi_lo, g.toi_lo) && same_bits(c.toi_hi, g.toi_hi) &&
+                      same_bits(c.position.x, g.position.x) && same_bits(c.position.y, g.position.y) &&
+                      same_bits(c.position.z, g.position.z) && c.certainty == g.certainty;
+    EXPECT_TRUE(same) << where << ": event " << i << " differs: cpu (" << int(c.type) << ", " << c.a << ", " << c.b
+                      << ", toi [" << c.toi_lo << ", " << c.toi_hi << "]) gpu (" << int(g.type) << ", " << g.a
+                      << ", " << g.b << ", toi [" << g.toi_lo << ", " << g.toi_hi << "])";
+    if (!same) return;
+  }
+}
+
+void expect_same_counts(const NarrowPhaseStats& cpu, const NarrowPhaseStats& gpu, const std::string& where) {
+  EXPECT_EQ(cpu.vf_tests, gpu.vf_tests) << where;
+  EXPECT_EQ(cpu.vf_yes, gpu.vf_yes) << where;
+  EXPECT_EQ(cpu.vf_no, gpu.vf_no) << where;
+  EXPECT_EQ(cpu.vf_uncertain, gpu.vf_uncertain) << where;
+  EXPECT_EQ(cpu.ee_tests, gpu.ee_tests) << where;
+  EXPECT_EQ(cpu.ee_yes, gpu.ee_yes) << where;
+  EXPECT_EQ(cpu.ee_no, gpu.ee_no) << where;
+  EXPECT_EQ(cpu.ee_uncertain, gpu.ee_uncertain) << where;
+  EXPECT_EQ(cpu.certified, gpu.certified) << where;
+  EXPECT_EQ(cpu.certified_true, gpu.certified_true) << where;
+  EXPECT_EQ(cpu.triangle_tests, gpu.triangle_tests) << where;
+  EXPECT_EQ(cpu.triangles_intersecting, gpu.triangles_intersecting) << where;
+  EXPECT_EQ(cpu.predicate_calls, gpu.predicate_calls) << where;
+  EXPECT_EQ(cpu.predicate_exact, gpu.predicate_exact) << where;
+}
+
+/// Both back ends bound to one scene with the same settings.
+struct BackendPair {
+  std::unique_ptr<Backend> cpu = make_cpu_backend();
+  std::unique_ptr<Backend> gpu = make_cuda_backend();
+  BackendPair(const Scene& scene, const BackendSettings& settings) {
+    cpu->bind(scene, settings);
+    gpu->bind(scene, settings);
+  }
+  void compare_step(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, const std::string& where) {
+    std::vector<Event> cpu_events, gpu_events;
+    cpu->collisions(x_t0, x_t1, cpu_events);
+    gpu->collisions(x_t0, x_t1, gpu_events);
+    expect_same_events(cpu_events, gpu_events, where + " collisions");
+    expect_same_counts(cpu->stats().narrow, gpu->stats().narrow, where + " collisions");
+    EXPECT_EQ(cpu->stats().ccd_broad.candidates, gpu->stats().ccd_broad.candidates) << where;
+    collisions_found += cpu_events.size();
+  }
+  void compare_frame(const std::vector<Vec3>& x, const std::string& where) {
+    std::vector<Event> cpu_events, gpu_events;
+    cpu->intersections(x, cpu_events);
+    gpu->intersections(x, gpu_events);
+    expect_same_events(cpu_events, gpu_events, where + " intersections");
+    expect_same_counts(cpu->stats().narrow, gpu->stats().narrow, where + " intersections");
+    intersections_found += cpu_events.size();
+  }
+  std::size_t collisions_found = 0, intersections_found = 0;
+};
+
+/// A soup of `count` small random triangles in the unit cube, moving by up to
+/// `motion` per step: many crossings, and intersections in each frame.
+struct Soup {
+  Scene scene;
+  std::vector<std::vector<Vec3>> frames;
+};
+
+Soup make_soup(std::size_t count, int frame_count, double motion, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> unit(0, 1), small(-0.04, 0.04), move(-motion, motion);
+  std::vector<Vec3> x;
+  std::vector<Triangle> triangles;
+  for (std::size_t f = 0; f < count; ++f) {
+    const Vec3 center{unit(random), unit(random), unit(random)};
+    const Index base = static_cast<Index>(x.size());
+    for (int k = 0; k < 3; ++k) x.push_back(center + Vec3{small(random), small(random), small(random)});
+    triangles.push_back({base, base + 1, base + 2});
+  }
+  // Some triangles share a vertex or an edge with the next one.
+  for (std::size_t f = 0; f + 1 < count; f += 7) triangles[f + 1][0] = triangles[f][2];
+  Soup soup;
+  soup.scene = Scene({make_object("soup", static_cast<Index>(x.size()), triangles)});
+  soup.frames.push_back(x);
+  for (int i = 1; i < frame_count; ++i) {
+    for (Vec3& p : x) p = p + Vec3{move(random), move(random), move(random)};
+    soup.frames.push_back(x);
+  }
+  return soup;
+}
+
+BackendSettings settings_with_certifier(bool certified) {
+  BackendSettings settings;
+#if SNAG_HAVE_CGAL
+  static const std::unique_ptr<Certifier> certifier = validate::make_exact_certifier();
+  if (certified) settings.certifier = certifier.get();
+#else
+  (void)certified;
+#endif
+  return settings;
+}
+
+class BackendEquality : public test::GpuTest {};
+
+TEST_F(BackendEquality, SameEventsOnRandomSoupsOfUnevenSizes) {
+  const std::size_t sizes[] = {1, 2, 37, 129, 1000, 4099};
+  std::size_t collisions = 0, intersections = 0;
+  for (const std::size_t size : sizes) {
+    for (const bool certified : {false, true}) {
+      const Soup soup = make_soup(size, 3, 0.03, 1000 + size);
+      BackendPair pair(soup.scene, settings_with_certifier(certified));
+      const std::string where = std::to_string(size) + " triangles" + (certified ? ", certified" : ", fast");
+      for (std::size_t f = 0; f < soup.frames.size(); ++f) {
+        pair.compare_frame(soup.frames[f], where + " frame " + std::to_string(f));
+        if (f + 1 < soup.frames.size())
+          pair.compare_step(soup.frames[f], soup.frames[f + 1], where + " step " + std::to_string(f));
+      }
+      collisions += pair.collisions_found;
+      intersections += pair.intersections_found;
+    }
+  }
+  EXPECT_GT(collisions, 0u) << "the soups must collide for the comparison to mean something";
+  EXPECT_GT(intersections, 0u);
+}
+
+TEST_F(BackendEquality, SameEventsWithThickness) {
+  const Soup soup = make_soup(700, 2, 0.02, 77);
+  BackendSettings settings = settings_with_certifier(true);
+  settings.thickness = 0.01;
+  BackendPair pair(soup.scene, settings);
+  pair.compare_step(soup.frames[0], soup.frames[1], "thickness 0.01");
+  EXPECT_GT(pair.collisions_found, 0u);
+}
+
+TEST_F(BackendEquality, FrameRefilledInPlaceIsUploadedAgain) {
+  const Soup soup = make_soup(500, 4, 0.03, 5);
+  BackendPair pair(soup.scene, settings_with_certifier(false));
+  // One pair of vectors refilled in place, as a reader would: same addresses,
+  // new contents; and the scan's pattern of reusing x_t1 as the next x_t0.
+  std::vector<Vec3> a = soup.frames[0], b = soup.frames[1];
+  pair.compare_step(a, b, "step 0");
+  pair.compare_frame(b, "frame 1");
+  a = soup.frames[2];
+  pair.compare_step(b, a, "step 1");
+  b = soup.frames[3];
+  pair.compare_step(a, b, "step 2");
+  b = soup.frames[0];
+  a = soup.frames[3];
+  pair.compare_step(b, a, "step 0 -> 3");
+  pair.compare_frame(a, "frame 3");
+  pair.compare_frame(b, "frame 0");
+  EXPECT_GT(pair.collisions_found, 0u);
+}
+
+/// The sample caches: $SNAG_SAMPLES_DIR; else samples/ next to the reference
+/// data named by $SNAG_SHARED_DATA_DIR (the GPU bundle's layout); else the
+/// source tree's.
+std::string samples_dir() {
+  const char* from_environment = std::getenv("SNAG_SAMPLES_DIR");
+  if (from_environment != nullptr && *from_environment != '\0') return from_environment;
+  const std::filesystem::path beside_data = std::filesystem::path(test::shared_data_dir()) / ".." / "samples";
+  if (std::filesystem::is_directory(beside_data / "cloth_ball")) return beside_data.string();
+  return std::string(SNAG_SOURCE_DIR) + "/samples";
+}
+
+TEST_F(BackendEquality, SameScanOfTheSampleCache) {
+  const std::string dir = samples_dir() + "/cloth_ball/";
+  io::CacheOptions options;
+  options.inputs = {{dir + "cloth.pc2", dir + "cloth_rest.obj", ""}, {dir + "body.pc2", dir + "body_rest.obj", ""}};
+  options.frames.first = 0;
+  options.frames.last = 5;
+  const auto source = io::open_cache(options);
+  ScanSettings scan;
+  const BackendSettings settings = settings_with_certifier(true);
+  auto cpu = make_cpu_backend();
+  auto gpu = make_cuda_backend();
+  cpu->bind(source->scene(), settings);
+  gpu->bind(source->scene(), settings);
+  const ScanResult cpu_result = scan_cache(*source, *cpu, scan);
+  const ScanResult gpu_result = scan_cache(*source, *gpu, scan);
+  expect_same_events(cpu_result.events, gpu_result.events, "samples/cloth_ball frames 0-5");
+  expect_same_counts(cpu_result.stats.narrow, gpu_result.stats.narrow, "samples/cloth_ball frames 0-5");
+  EXPECT_GT(cpu_result.stats.narrow.vf_tests + cpu_result.stats.narrow.ee_tests, 0u);
+}
+
+TEST_F(BackendEquality, SameEventsOnClothBall92To93) {
+  const test::PlyMesh m92 = test::read_binary_ply(test::shared_data_dir() + "/meshes/cloth_ball92.ply");
+  const test::PlyMesh m93 = test::read_binary_ply(test::shared_data_dir() + "/meshes/cloth_ball93.ply");
+  ASSERT_EQ(m92.positions.size(), m93.positions.size());
+  const Scene scene({make_object("cloth_ball", static_cast<Index>(m92.positions.size()), m92.triangles)});
+  for (const bool certified : {false, true}) {
+    BackendPair pair(scene, settings_with_certifier(certified));
+    const std::string where = certified ? "cloth_ball92->93 certified" : "cloth_ball92->93 fast";
+    pair.compare_frame(m92.positions, where);
+    pair.compare_step(m92.positions, m93.positions, where);
+    pair.compare_frame(m93.positions, where);
+  }
+}
+
+}  // namespace
+}  // namespace snag

@@ -1,0 +1,215 @@
+// The GPU narrow phase (libcd/cuda/narrow_phase.cuh; plain C++ here, so the
+// CPU oracles are compiled by the host compiler) against the CPU
+// functions it runs: every query of the exact ground-truth sets
+// (../shared/data/ccd-queries) in one batch per kind, with both schedules
+// (screen then search, single pass): no false negatives, and each hit and its
+// time of impact bit-identical to vertex_face_ccd / edge_edge_ccd on the CPU;
+// and random triangle pairs against triangles_intersect, predicate counts included.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "gpu_test.hpp"
+#include "io/ccd_query_csv.hpp"
+#include "libcd/cuda/device_buffer.cuh"
+#include "libcd/cuda/narrow_phase.cuh"
+#include "libcd/narrow_phase/edge_edge_ccd.hpp"
+#include "libcd/narrow_phase/triangle_triangle.hpp"
+#include "libcd/narrow_phase/vertex_face_ccd.hpp"
+
+namespace snag {
+namespace {
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+/// The queries laid out as a scene: 4 vertices per query; VF: vertex 4q
+/// against face q = (4q+1, 4q+2, 4q+3); EE: edge 2q = (4q, 4q+1) against edge
+/// 2q+1 = (4q+2, 4q+3).
+struct QueryBatch {
+  std::vector<Vec3> x_t0, x_t1;
+  std::vector<Triangle> triangles;
+  std::vector<Edge> edges;
+  std::vector<VertexFaceCandidate> vf;
+  std::vector<EdgeEdgeCandidate> ee;
+  std::vector<const io::CcdQuery*> vf_queries, ee_queries;
+};
+
+QueryBatch make_batch(const std::vector<io::CcdQuery>& queries) {
+  QueryBatch batch;
+  for (const io::CcdQuery& query : queries) {
+    const Index base = static_cast<Index>(batch.x_t0.size());
+    for (int i = 0; i < 4; ++i) {
+      batch.x_t0.push_back(query.points[i]);
+      batch.x_t1.push_back(query.points[4 + i]);
+    }
+    if (query.is_edge_edge) {
+      const Index e = static_cast<Index>(batch.edges.size());
+      batch.edges.push_back({base, base + 1});
+      batch.edges.push_back({base + 2, base + 3});
+      batch.ee.push_back({e, e + 1});
+      batch.ee_queries.push_back(&query);
+    } else {
+      const Index f = static_cast<Index>(batch.triangles.size());
+      batch.triangles.push_back({base + 1, base + 2, base + 3});
+      batch.vf.push_back({base, f});
+      batch.vf_queries.push_back(&query);
+    }
+  }
+  return batch;
+}
+
+CcdResult cpu_answer(const io::CcdQuery& q, const CcdSettings& settings) {
+  const auto& p = q.points;
+  return q.is_edge_edge ? edge_edge_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings)
+                        : vertex_face_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings);
+}
+
+void expect_same_as_cpu(const std::vector<const io::CcdQuery*>& queries, const std::vector<CcdHit>& hits,
+                        const CcdSettings& settings, const char* schedule) {
+  std::size_t next_hit = 0, false_negatives = 0, cpu_hits = 0;
+  for (std::size_t q = 0; q < queries.size(); ++q) {
+    const CcdResult cpu = cpu_answer(*queries[q], settings);
+    const bool gpu_hit = next_hit < hits.size() && hits[next_hit].candidate == q;
+    if (queries[q]->truth && !gpu_hit) ++false_negatives;
+    if (cpu.answer == CcdAnswer::kNo) {
+      EXPECT_FALSE(gpu_hit) << schedule << ": " << queries[q]->file << ":" << queries[q]->line;
+      if (gpu_hit) ++next_hit;
+      continue;
+    }
+    ++cpu_hits;
+    ASSERT_TRUE(gpu_hit) << schedule << ": missed " << queries[q]->file << ":" << queries[q]->line;
+    const CcdResult gpu = hits[next_hit++].result;
+    EXPECT_EQ(gpu.answer, cpu.answer) << schedule << ": " << queries[q]->file << ":" << queries[q]->line;
+    EXPECT_TRUE(same_bits(gpu.toi_lo, cpu.toi_lo) && same_bits(gpu.toi_hi, cpu.toi_hi))
+        << schedule << ": " << queries[q]->file << ":" << queries[q]->line << " gpu [" << gpu.toi_lo << ", "
+        << gpu.toi_hi << "] cpu [" << cpu.toi_lo << ", " << cpu.toi_hi << "]";
+  }
+  EXPECT_EQ(next_hit, hits.size()) << schedule << ": hits out of candidate order";
+  EXPECT_EQ(cpu_hits, hits.size()) << schedule;
+  EXPECT_EQ(false_negatives, 0u) << schedule;
+}
+
+class NarrowPhaseCcdQueries : public test::GpuTest {};
+
+TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithNoFalseNegativesOnAllQueries) {
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  ASSERT_GT(queries.size(), 1000u);
+  const QueryBatch batch = make_batch(queries);
+  ASSERT_FALSE(batch.vf.empty());
+  ASSERT_FALSE(batch.ee.empty());
+  std::size_t positives = 0;
+  for (const auto& q : queries) positives += q.truth;
+  ASSERT_GT(positives, 0u);
+
+  DeviceBuffer<Vec3> x_t0, x_t1;
+  DeviceBuffer<Triangle> triangles;
+  DeviceBuffer<Edge> edges;
+  DeviceBuffer<VertexFaceCandidate> vf;
+  DeviceBuffer<EdgeEdgeCandidate> ee;
+  x_t0.upload(batch.x_t0);
+  x_t1.upload(batch.x_t1);
+  triangles.upload(batch.triangles);
+  edges.upload(batch.edges);
+  vf.upload(batch.vf);
+  ee.upload(batch.ee);
+  CudaNarrowPhase narrow(nullptr);
+  CcdSettings settings;
+  for (const CcdPasses passes : {CcdPasses::kScreenThenSearch, CcdPasses::kSinglePass}) {
+    const char* schedule = passes == CcdPasses::kSinglePass ? "single pass" : "screen then search";
+    std::vector<CcdHit> vf_hits, ee_hits;
+    narrow.vertex_face(x_t0.data(), x_t1.data(), triangles.data(), vf.data(), batch.vf.size(), settings, passes,
+                       vf_hits);
+    narrow.edge_edge(x_t0.data(), x_t1.data(), edges.data(), ee.data(), batch.ee.size(), settings, passes, ee_hits);
+    expect_same_as_cpu(batch.vf_queries, vf_hits, settings, schedule);
+    expect_same_as_cpu(batch.ee_queries, ee_hits, settings, schedule);
+  }
+}
+
+TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithThickness) {
+  const std::vector<io::CcdQuery> queries =
+      io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries/unit-tests");
+  ASSERT_FALSE(queries.empty());
+  const QueryBatch batch = make_batch(queries);
+  DeviceBuffer<Vec3> x_t0, x_t1;
+  DeviceBuffer<Triangle> triangles;
+  DeviceBuffer<Edge> edges;
+  DeviceBuffer<VertexFaceCandidate> vf;
+  DeviceBuffer<EdgeEdgeCandidate> ee;
+  x_t0.upload(batch.x_t0);
+  x_t1.upload(batch.x_t1);
+  triangles.upload(batch.triangles);
+  edges.upload(batch.edges);
+  vf.upload(batch.vf);
+  ee.upload(batch.ee);
+  CudaNarrowPhase narrow(nullptr);
+  CcdSettings settings;
+  settings.thickness = 1e-3;
+  std::vector<CcdHit> vf_hits, ee_hits;
+  narrow.vertex_face(x_t0.data(), x_t1.data(), triangles.data(), vf.data(), batch.vf.size(), settings,
+                     CcdPasses::kScreenThenSearch, vf_hits);
+  narrow.edge_edge(x_t0.data(), x_t1.data(), edges.data(), ee.data(), batch.ee.size(), settings,
+                   CcdPasses::kScreenThenSearch, ee_hits);
+  expect_same_as_cpu(batch.vf_queries, vf_hits, settings, "thickness 1e-3");
+  expect_same_as_cpu(batch.ee_queries, ee_hits, settings, "thickness 1e-3");
+}
+
+class NarrowPhaseTrianglePairs : public test::GpuTest {};
+
+TEST_F(NarrowPhaseTrianglePairs, MatchesCpuOnRandomPairsWithSharedVertices) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> coordinate(0, 1);
+  std::vector<Vec3> x(300);
+  for (Vec3& p : x) p = {coordinate(random), coordinate(random), coordinate(random)};
+  // A few exact coplanar points, for the exact stage.
+  for (int i = 0; i < 30; ++i) x[i].z = 0.5;
+  std::uniform_int_distribution<Index> vertex(0, 299);
+  std::vector<Triangle> triangles(400);
+  for (Triangle& t : triangles) t = {vertex(random), vertex(random), vertex(random)};
+  for (int i = 0; i < 20; ++i) triangles[i] = {Index(i), Index(i + 1), Index(i + 2)};  // in the coplanar set
+  std::vector<TrianglePair> pairs;
+  for (Index a = 0; a < 400; ++a)
+    for (Index b = a + 1; b < 400; b += 1 + a % 5) pairs.push_back({a, b});
+
+  std::vector<std::uint32_t> cpu_hits;
+  PredicateCounters cpu_counters;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const Triangle& ta = triangles[pairs[i].a];
+    const Triangle& tb = triangles[pairs[i].b];
+    const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
+    const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
+    if (triangles_intersect(a, ta.data(), b, tb.data(), &cpu_counters)) cpu_hits.push_back(std::uint32_t(i));
+  }
+  ASSERT_FALSE(cpu_hits.empty());
+  ASSERT_GT(cpu_counters.exact, 0u);
+
+  DeviceBuffer<Vec3> d_x;
+  DeviceBuffer<Triangle> d_triangles;
+  DeviceBuffer<TrianglePair> d_pairs;
+  d_x.upload(x);
+  d_triangles.upload(triangles);
+  d_pairs.upload(pairs);
+  CudaNarrowPhase narrow(nullptr);
+  std::vector<std::uint32_t> gpu_hits;
+  TrianglePairCounts gpu_counts;
+  narrow.triangle_pairs(d_x.data(), d_triangles.data(), d_pairs.data(), pairs.size(), gpu_hits, gpu_counts);
+  EXPECT_EQ(gpu_hits, cpu_hits);
+  EXPECT_EQ(gpu_counts.predicate_calls, cpu_counters.calls);
+  EXPECT_EQ(gpu_counts.predicate_exact, cpu_counters.exact);
+}
+
+TEST_F(NarrowPhaseTrianglePairs, EmptyInputGivesNoHits) {
+  CudaNarrowPhase narrow(nullptr);
+  std::vector<std::uint32_t> hits;
+  TrianglePairCounts counts;
+  narrow.triangle_pairs(nullptr, nullptr, nullptr, 0, hits, counts);
+  std::vector<CcdHit> ccd_hits;
+  narrow.vertex_face(nullptr, nullptr, nullptr, nullptr, 0, CcdSettings{}, CcdPasses::kScreenThenSearch, ccd_hits);
+  EXPECT_TRUE(hits.empty());
+  EXPECT_TRUE(ccd_hits.empty());
+  EXPECT_EQ(counts.predicate_calls, 0u);
+}
+
+}  // namespace
+}  // namespace snag
