@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <tuple>
 
 #include "validate/exact_ccd.hpp"
 #include "validate/exact_triangle_intersection.hpp"
 #include "validate/verify_candidates.hpp"
+#include "validate/verify_exclusion.hpp"
 
 namespace snag::validate {
 
@@ -248,11 +250,19 @@ VerifyResult verify_events(const FrameSource& source, const std::vector<Event>& 
       }
     }
     std::vector<unsigned char> hit(tests.size(), 0);
+    std::atomic<std::size_t> excluded[2] = {{0}, {0}};
     tbb::parallel_for(std::size_t{0}, tests.size(), [&](std::size_t k) {
       Event& e = tests[k];
       if (e.kind == EventKind::kIntersection) {
         const char* reason = "";
         hit[k] = triangles_intersect_exactly(scene, e.a, e.b, x_f, &reason);
+        return;
+      }
+      // Pairs certainly apart (verify_exclusion.hpp) cannot touch; every
+      // other pair is decided by the exact CCD.
+      if (certainly_apart(ccd_points(scene, e, x_f, *x_t1), e.type == ContactType::kEdgeEdge,
+                          settings.thickness)) {
+        ++excluded[e.type == ContactType::kEdgeEdge];
         return;
       }
       const ExactCcdResult exact = exact_ccd(scene, e, x_f, *x_t1, settings);
@@ -269,6 +279,8 @@ VerifyResult verify_events(const FrameSource& source, const std::vector<Event>& 
       }
       if (hit[k]) result.missed.push_back(e);
     }
+    result.vf_excluded += excluded[0];
+    result.ee_excluded += excluded[1];
     result.seconds_exhaustive += seconds_since(exhaustive_start);
   }
   std::sort(result.missed.begin(), result.missed.end(), event_order);

@@ -45,7 +45,10 @@ struct VerifyResult {
   /// Events found exactly in the complete candidate sets but not reported,
   /// in event_order (global ids; collisions carry the exact toi interval).
   std::vector<Event> missed;
-  std::size_t vf_tested = 0, ee_tested = 0, triangle_pairs_tested = 0;  ///< exhaustive exact tests
+  std::size_t vf_tested = 0, ee_tested = 0, triangle_pairs_tested = 0;  ///< exhaustive candidates decided
+  /// Of vf_tested / ee_tested, those decided by verify_exclusion.hpp's
+  /// certified exclusion; the rest ran the exact CCD.
+  std::size_t vf_excluded = 0, ee_excluded = 0;
   std::size_t frames_read = 0;
   double seconds_reported = 0, seconds_exhaustive = 0;
 };

@@ -8,6 +8,7 @@
 #include "validate/exact_ccd.hpp"
 #include "validate/exact_triangle_intersection.hpp"
 #include "validate/verify_candidates.hpp"
+#include "validate/verify_exclusion.hpp"
 
 namespace snag::validate {
 namespace {
@@ -56,7 +57,7 @@ std::array<Vec3, 8> ee_points(const RandomScene& s, Index a, Index b) {
 
 class CompleteCandidates : public ::testing::TestWithParam<unsigned> {};
 
-TEST_P(CompleteCandidates, HoldEveryCollidingPairOfAllPairs) {
+TEST_P(CompleteCandidates, HoldEveryCollidingPairOfAllPairsAndNoneIsExcluded) {
   const RandomScene s = make_random_scene(GetParam(), 0.3);
   const double thickness = GetParam() % 2 == 0 ? 0.0 : 0.02;
   std::vector<VertexFaceCandidate> vf;
@@ -84,6 +85,7 @@ TEST_P(CompleteCandidates, HoldEveryCollidingPairOfAllPairs) {
       pruned += !listed;
       if (exact_vertex_face_ccd(vf_points(s, v, f), thickness).collides) {
         ++colliding;
+        EXPECT_FALSE(certainly_apart(vf_points(s, v, f), false, thickness)) << "vertex " << v << " face " << f;
         EXPECT_TRUE(listed) << "colliding vertex " << v << " face " << f << " is missing";
       }
     }
@@ -101,6 +103,7 @@ TEST_P(CompleteCandidates, HoldEveryCollidingPairOfAllPairs) {
       pruned += !listed;
       if (exact_edge_edge_ccd(ee_points(s, a, b), thickness).collides) {
         ++colliding;
+        EXPECT_FALSE(certainly_apart(ee_points(s, a, b), true, thickness)) << "edges " << a << ", " << b;
         EXPECT_TRUE(listed) << "colliding edges " << a << ", " << b << " are missing";
       }
     }
@@ -108,6 +111,10 @@ TEST_P(CompleteCandidates, HoldEveryCollidingPairOfAllPairs) {
   // The scenes are built so that both sides of the oracle are exercised.
   EXPECT_GT(colliding, 0u);
   EXPECT_GT(pruned, 0u);
+  std::size_t excluded = 0;
+  for (const VertexFaceCandidate& c : vf) excluded += certainly_apart(vf_points(s, c.vertex, c.face), false, thickness);
+  for (const EdgeEdgeCandidate& c : ee) excluded += certainly_apart(ee_points(s, c.edge_a, c.edge_b), true, thickness);
+  EXPECT_GT(excluded, 0u) << "the exclusion should decide some candidates";
 }
 
 TEST_P(CompleteCandidates, HoldEveryIntersectingTrianglePair) {
