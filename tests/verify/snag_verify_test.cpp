@@ -22,7 +22,7 @@ const std::string kSamples = std::string(SNAG_SOURCE_DIR) + "/samples/cloth_ball
 const std::string kCache = kSamples + "cloth.pc2 -t " + kSamples + "cloth_rest.obj " + kSamples + "body.pc2 -t " +
                            kSamples + "body_rest.obj";
 
-struct Run {
+struct ToolRun {
   int exit_code = -1;
   std::string out, err;
 };
@@ -39,7 +39,7 @@ class SnagVerify : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = std::filesystem::temp_directory_path() / ("snag_verify_test_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir_);
-    const Run scan = run(SNAG_SCAN_EXE, kCache + " --frames 26:29 -q --fail-on 0 -r " + path("report.json"));
+    const ToolRun scan = run(SNAG_SCAN_EXE, kCache + " --frames 26:29 -q --fail-on 0 -r " + path("report.json"));
     ASSERT_EQ(scan.exit_code, 0) << scan.err;
     report_ = json::parse(read_text(path("report.json")));
   }
@@ -47,10 +47,10 @@ class SnagVerify : public ::testing::Test {
 
   static std::string path(const std::string& name) { return (dir_ / name).string(); }
 
-  static Run run(const std::string& exe, const std::string& args) {
+  static ToolRun run(const std::string& exe, const std::string& args) {
     const std::string err_path = path("stderr.txt");
     const std::string command = exe + " " + args + " 2>" + err_path;
-    Run result;
+    ToolRun result;
     FILE* pipe = popen(command.c_str(), "r");
     if (pipe == nullptr) return result;
     char buffer[4096];
@@ -62,7 +62,7 @@ class SnagVerify : public ::testing::Test {
     return result;
   }
 
-  static Run verify(const std::string& args) { return run(SNAG_VERIFY_EXE, args); }
+  static ToolRun verify(const std::string& args) { return run(SNAG_VERIFY_EXE, args); }
 
   static std::string write_report(const std::string& name, const json& report) {
     std::ofstream(path(name)) << report.dump(1);
@@ -79,7 +79,7 @@ json SnagVerify::report_;
 TEST_F(SnagVerify, ConfirmsEveryEventOfACertifiedScan) {
   const std::size_t events = report_.at("events").size();
   ASSERT_GT(events, 0u) << "frames 26 to 29 of the sample should have events";
-  const Run r = verify(path("report.json") + " " + kCache + " --json");
+  const ToolRun r = verify(path("report.json") + " " + kCache + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const json result = json::parse(r.out);
   EXPECT_EQ(result.at("events"), events);
@@ -98,7 +98,7 @@ TEST_F(SnagVerify, ExhaustiveFindsTheOneDroppedEvent) {
   ASSERT_LT(drop, events.size()) << "the scan should have a collision";
   const json dropped = events[drop];
   events.erase(events.begin() + static_cast<std::ptrdiff_t>(drop));
-  const Run r = verify(write_report("dropped.json", edited) + " " + kCache + " --exhaustive --json");
+  const ToolRun r = verify(write_report("dropped.json", edited) + " " + kCache + " --exhaustive --json");
   ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
   const json result = json::parse(r.out);
   // Exactly one: the certified scan missed nothing else.
@@ -157,7 +157,7 @@ TEST_F(SnagVerify, FlagsTheOneAddedFalseEvent) {
                    {"position", {0, 0, 0}}};
   edited.at("events").push_back(added);
   const std::string report = write_report("added.json", edited);
-  const Run r = verify(report + " " + kCache + " --json");
+  const ToolRun r = verify(report + " " + kCache + " --json");
   ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
   const json result = json::parse(r.out);
   EXPECT_EQ(result.at("false"), 1);
@@ -166,7 +166,7 @@ TEST_F(SnagVerify, FlagsTheOneAddedFalseEvent) {
   EXPECT_EQ(result.at("false_events")[0].at("a"), added.at("a"));
   EXPECT_EQ(result.at("false_events")[0].at("b"), added.at("b"));
 
-  const Run text = verify(report + " " + kCache);
+  const ToolRun text = verify(report + " " + kCache);
   EXPECT_EQ(text.exit_code, 1);
   EXPECT_NE(text.out.find("false: 1\n"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find(scene.objects()[0].name + " vertex " + std::to_string(cloth_vertex)), std::string::npos)
@@ -176,7 +176,7 @@ TEST_F(SnagVerify, FlagsTheOneAddedFalseEvent) {
 TEST_F(SnagVerify, RejectsAReportWhoseObjectNamesDiffer) {
   json edited = report_;
   edited.at("objects")[0].at("name") = "not_the_cloth";
-  const Run r = verify(write_report("renamed.json", edited) + " " + kCache);
+  const ToolRun r = verify(write_report("renamed.json", edited) + " " + kCache);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("not_the_cloth"), std::string::npos) << r.err;
 }
@@ -193,13 +193,13 @@ TEST_F(SnagVerify, RejectsAnEventWhoseIdIsOutOfRange) {
   } else {
     a.at("edge") = {0, 1000000};
   }
-  const Run r = verify(write_report("out_of_range.json", edited) + " " + kCache);
+  const ToolRun r = verify(write_report("out_of_range.json", edited) + " " + kCache);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("out of range"), std::string::npos) << r.err;
 }
 
 TEST_F(SnagVerify, ScanModeConfirmsItsOwnScan) {
-  const Run r = verify("--scan " + kCache + " --frames 26:28 --json");
+  const ToolRun r = verify("--scan " + kCache + " --frames 26:28 --json");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const json result = json::parse(r.out);
   EXPECT_EQ(result.at("confirmed"), result.at("events"));
@@ -230,7 +230,7 @@ Truth count_truth(const std::filesystem::path& folder) {
 
 TEST_F(SnagVerify, QueriesOfOneSceneAgreeWithTheGroundTruth) {
   const std::filesystem::path scene = std::filesystem::path(SNAG_SHARED_DATA_DIR) / "ccd-queries/erleben-sliding-spike";
-  const Run r = verify("--queries " + scene.string() + " --json");
+  const ToolRun r = verify("--queries " + scene.string() + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const json result = json::parse(r.out);
   const struct {
@@ -256,7 +256,7 @@ TEST_F(SnagVerify, QueriesOfOneSceneAgreeWithTheGroundTruth) {
 }
 
 TEST_F(SnagVerify, RejectsAQueryFolderWithoutQueries) {
-  const Run r = verify("--queries " + path(""));
+  const ToolRun r = verify("--queries " + path(""));
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
 }
 
