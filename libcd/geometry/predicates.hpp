@@ -34,7 +34,7 @@
 // The exact stages run rarely: keep them out of line so that the filtered
 // fast paths stay small where they are inlined.
 #if defined(__CUDACC__)
-#define SNAG_EXACT_STAGE __host__ __device__ __noinline__
+#define SNAG_EXACT_STAGE inline __host__ __device__ __noinline__
 #else
 #define SNAG_EXACT_STAGE inline __attribute__((noinline, cold))
 #endif
