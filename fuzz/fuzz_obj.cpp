@@ -6,22 +6,9 @@
 #include <string_view>
 
 #include "io/obj_reader.hpp"
-#include "libcd/core/error.hpp"
+#include "fuzz/fuzz_mesh_parser.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  try {
-    const snag::io::MeshData mesh = snag::io::parse_obj(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.obj");
-    for (const snag::io::MeshObject& object : mesh.objects) {
-      for (snag::Index v : object.vertices) {
-        if (v >= mesh.positions.size()) __builtin_trap();
-      }
-      for (const snag::Triangle& t : object.triangles) {
-        for (snag::Index v : t) {
-          if (v >= object.vertices.size()) __builtin_trap();
-        }
-      }
-    }
-  } catch (const snag::InputError&) {
-  }
-  return 0;
+  return snag::fuzz::fuzz_mesh_parser(data, size,
+                                      [](std::string_view bytes) { return snag::io::parse_obj(bytes, "fuzz.obj"); });
 }
