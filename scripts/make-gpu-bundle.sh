@@ -12,7 +12,9 @@
 # What goes in (the executables are listed by CMake in build-gpu/gpu-targets.txt,
 # see snag_register_gpu_target in libcd/cuda/CMakeLists.txt):
 #   bin/          the GPU test executables, GPU benchmarks and snag-scan (when it
-#                 exists), stripped; Release build in build-gpu/, OpenVDB off
+#                 exists), stripped; Release build in build-gpu/, OpenVDB and assimp off (the bundled
+#                 data is PLY, OBJ and PC2, which snag reads itself; assimp and
+#                 its codecs alone would take 12 MiB of the 64)
 #   lib/          the shared libraries they load (from ldd), except the C library
 #                 family (libc, libm, libpthread, libdl, librt, ld-linux, ...)
 #                 and the NVIDIA driver (libcuda, libnvidia-*), which must come
@@ -52,7 +54,7 @@ generator=()
 echo "== configure $build (CUDA architectures $arch)"
 cmake -S "$root" -B "$build" "${generator[@]}" "${launchers[@]}" \
   -DCMAKE_BUILD_TYPE=Release -DSNAG_WITH_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES="$arch" \
-  -DSNAG_WITH_OPENVDB=OFF -DSNAG_BUILD_TESTS=ON -DSNAG_BUILD_BENCHMARKS=ON "$@" >/dev/null
+  -DSNAG_WITH_OPENVDB=OFF -DSNAG_WITH_ASSIMP=OFF -DSNAG_BUILD_TESTS=ON -DSNAG_BUILD_BENCHMARKS=ON "$@" >/dev/null
 
 targets_file=$build/gpu-targets.txt
 [ -s "$targets_file" ] || { echo "make-gpu-bundle: no GPU executables registered ($targets_file is empty)" >&2; exit 1; }
