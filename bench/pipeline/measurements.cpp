@@ -33,12 +33,17 @@ double median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-/// Runs `pass` once to warm up, then `repeat` times; returns each timed pass's result.
+/// Runs `pass` once to warm up, then `settings.repeat` times; returns each
+/// timed pass's result. When the warm-up alone took longer than
+/// `settings.slow_pass_seconds`, the warm-up is the only pass reported (the
+/// JSON's "passes" says how many the medians are of).
 template <typename Result>
-std::vector<Result> timed_passes(int repeat, const std::function<Result()>& pass) {
-  pass();
+std::vector<Result> timed_passes(const MeasureSettings& settings, const std::function<Result()>& pass) {
+  const auto start = Clock::now();
+  Result warm_up = pass();
+  if (seconds_since(start) > settings.slow_pass_seconds) return {warm_up};
   std::vector<Result> results;
-  for (int k = 0; k < repeat; ++k) results.push_back(pass());
+  for (int k = 0; k < settings.repeat; ++k) results.push_back(pass());
   return results;
 }
 
@@ -190,7 +195,7 @@ json measure_broad_phase(const BenchScene& bench, BroadPhaseMethod method, bool 
     }
     return total;
   };
-  const std::vector<PipelineStats> passes = timed_passes(settings.repeat, pass);
+  const std::vector<PipelineStats> passes = timed_passes(settings, pass);
   auto stage = [&](double BroadPhaseStats::*field) {
     std::vector<double> values;
     for (const PipelineStats& p : passes) values.push_back((ccd ? p.ccd_broad : p.static_broad).*field);
@@ -199,6 +204,7 @@ json measure_broad_phase(const BenchScene& bench, BroadPhaseMethod method, bool 
   const BroadPhaseStats& counts = ccd ? passes.back().ccd_broad : passes.back().static_broad;
   return {{"mode", ccd ? "ccd" : "static"},
           {"method", method_name(method)},
+          {"passes", passes.size()},
           {"seconds",
            {{"bounds", stage(&BroadPhaseStats::seconds_bounds)},
             {"subdivision", stage(&BroadPhaseStats::seconds_subdivision)},
@@ -234,7 +240,7 @@ json measure_narrow_phase(const BenchScene& bench, const MeasureSettings& settin
       p.wall = seconds_since(start);
       return p;
     };
-    const std::vector<Pass> passes = timed_passes(settings.repeat, pass);
+    const std::vector<Pass> passes = timed_passes(settings, pass);
     auto med = [&](const std::function<double(const Pass&)>& get) {
       std::vector<double> values;
       for (const Pass& p : passes) values.push_back(get(p));
@@ -244,6 +250,7 @@ json measure_narrow_phase(const BenchScene& bench, const MeasureSettings& settin
     const NarrowPhaseStats& n = last.stats.narrow;
     const std::size_t tests = n.vf_tests + n.ee_tests;
     out[certified ? "certified" : "fast"] = {
+        {"passes", passes.size()},
         {"seconds",
          {{"pass", med([](const Pass& p) { return p.wall; })},
           {"broad_phase", med([](const Pass& p) { return p.stats.ccd_broad.seconds_total; })},
@@ -324,7 +331,8 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
     }
     return seconds_since(start);
   };
-  const double snag_seconds = median(timed_passes(settings.repeat, snag_pass));
+  const std::vector<double> snag_passes = timed_passes(settings, snag_pass);
+  const double snag_seconds = median(snag_passes);
 
   CgalSelfIntersectionRunner cgal(bench.scene);
   std::vector<CgalSelfIntersections> cgal_found(bench.frames.size());
@@ -337,7 +345,8 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
     }
     return total;
   };
-  const double cgal_seconds = median(timed_passes(settings.repeat, cgal_pass));
+  const std::vector<double> cgal_passes = timed_passes(settings, cgal_pass);
+  const double cgal_seconds = median(cgal_passes);
 
   std::size_t snag_total = 0, cgal_total = 0, degenerate = 0, only_snag = 0, only_cgal = 0;
   json differences = json::array();
@@ -359,6 +368,8 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
       if (differences.size() < 20) differences.push_back({{"frame", f}, {"a", p.a}, {"b", p.b}, {"only", "cgal"}});
   }
   return {{"frames", bench.frames.size()},
+          {"snag_passes", snag_passes.size()},
+          {"cgal_passes", cgal_passes.size()},
           {"snag_seconds", snag_seconds},
           {"cgal_seconds", cgal_seconds},
           {"speedup", snag_seconds > 0 ? cgal_seconds / snag_seconds : 0.0},

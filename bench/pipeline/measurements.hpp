@@ -1,7 +1,8 @@
 // The pipeline benchmark's measurements, each returning JSON so that it can
 // run in a forked child (child_process.hpp). Every timed quantity is the
-// median of `repeat` passes after one warm-up pass; a pass covers every step
-// (CCD) or every frame (static) of the scene.
+// median of `repeat` passes after one warm-up pass (or the warm-up alone when
+// it took longer than slow_pass_seconds); a pass covers every step (CCD) or
+// every frame (static) of the scene.
 #pragma once
 
 #include <cstddef>
@@ -17,6 +18,7 @@ struct MeasureSettings {
   double thickness = 0;                 ///< contact distance, scene units
   unsigned threads = 0;                 ///< worker threads, 0 = all cores
   int repeat = 3;                       ///< timed passes (median), after one warm-up
+  double slow_pass_seconds = 20;        ///< a warm-up longer than this is the only pass timed
   std::size_t accuracy_sample = 2000;   ///< CCD candidates checked exactly besides the filter's yes/uncertain
 };
 

@@ -107,16 +107,16 @@ json bench_scene(const BenchScene& bench, const MeasureSettings& settings, std::
 
 void print_tables(const json& report) {
   std::printf("\nbroad phase (seconds: median pass over all steps/frames; counts summed; mem: estimate / peak RSS growth)\n");
-  std::printf("%-10s %-6s %-12s %8s %7s %7s %7s %7s %7s | %9s %10s %11s %6s %10s %9s %9s %7s %7s\n", "scene", "mode",
-              "method", "total_s", "bounds", "subdiv", "regist", "pairs", "feat", "cells", "regs", "tests", "dup%",
+  std::printf("%-10s %-6s %-12s %2s %8s %7s %7s %7s %7s %7s | %9s %10s %11s %6s %10s %9s %9s %7s %7s\n", "scene", "mode",
+              "method", "n", "total_s", "bounds", "subdiv", "regist", "pairs", "feat", "cells", "regs", "tests", "dup%",
               "tri_pairs", "VF", "EE", "est_MB", "rss_MB");
   for (const json& scene : report["scenes"]) {
     for (const json& r : scene["broad_phase"]) {
       const json& s = r["seconds"];
       const json& c = r["counts"];
-      std::printf("%-10s %-6s %-12s %8.4f %7.4f %7.4f %7.4f %7.4f %7.4f | %9zu %10zu %11zu %6.3f %10zu %9zu %9zu %7.1f %7.1f\n",
+      std::printf("%-10s %-6s %-12s %2zu %8.4f %7.4f %7.4f %7.4f %7.4f %7.4f | %9zu %10zu %11zu %6.3f %10zu %9zu %9zu %7.1f %7.1f\n",
                   scene["name"].get<std::string>().c_str(), r["mode"].get<std::string>().c_str(),
-                  r["method"].get<std::string>().c_str(), s["total"].get<double>(), s["bounds"].get<double>(),
+                  r["method"].get<std::string>().c_str(), r["passes"].get<std::size_t>(), s["total"].get<double>(), s["bounds"].get<double>(),
                   s["subdivision"].get<double>(), s["registration"].get<double>(), s["pairs"].get<double>(),
                   s["features"].get<double>(), c["cells_used"].get<std::size_t>(),
                   c["registrations"].get<std::size_t>(), c["tests"].get<std::size_t>(),
@@ -204,6 +204,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-samples", no_samples, "skip the sample cache");
   app.add_option("--repeat", settings.repeat, "timed passes per measurement (median), after one warm-up")
       ->check(CLI::Range(1, 1000));
+  app.add_option("--slow-pass-seconds", settings.slow_pass_seconds,
+                 "a measurement whose warm-up pass takes longer is timed by that pass alone");
   app.add_option("--threads", settings.threads, "worker threads (0 = all cores)");
   app.add_option("--brute-force-limit", brute_force_limit, "run brute force below this many triangles");
   app.add_option("--accuracy-sample", settings.accuracy_sample,
@@ -217,6 +219,7 @@ int main(int argc, char** argv) {
                    {"threads", settings.threads},
                    {"lambda", settings.lambda},
                    {"thickness", settings.thickness},
+                   {"slow_pass_seconds", settings.slow_pass_seconds},
                    {"accuracy_sample", settings.accuracy_sample},
                    {"brute_force_limit", brute_force_limit},
                    {"peak_rss_method",
