@@ -1,7 +1,7 @@
 // Conservative continuous collision detection of two edges, usable from host
 // and device code.
 //
-// Method: two proven early exits, then the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
+// Method: three proven early exits, then the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
 // "A Large Scale Benchmark and an Inclusion-Based Algorithm for Continuous
 // Collision Detection", ACM TOG 2021) on the contact function
 //   F(t, u, v) = [(1 - u) ea0(t) + u ea1(t)] - [(1 - v) eb0(t) + v eb1(t)],
@@ -16,7 +16,10 @@
 //     over [0, 1] (ccd_coplanarity_filter.hpp): the four ends are never
 //     coplanar, which touching edges must be; parallel or zero-length edges
 //     never pass this test.
-// Inputs out of range (see inclusion_ccd) answer kUncertain before either.
+//  3. a fixed direction separates the two swept features over the whole
+//     step (ccd_separating_direction.hpp): most pairs whose planes cross but
+//     whose features pass beside each other.
+// Inputs out of range (see inclusion_ccd) answer kUncertain before any.
 //
 // Certificate of a crossing on [ta, tb], in outward-rounded interval
 // arithmetic, with da = ea1 - ea0, db = eb1 - eb0, w = eb0 - ea0,
@@ -36,6 +39,7 @@
 #include "libcd/narrow_phase/ccd_coplanarity_filter.hpp"
 #include "libcd/narrow_phase/ccd_inclusion.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
+#include "libcd/narrow_phase/ccd_separating_direction.hpp"
 #include "libcd/narrow_phase/ccd_swept_aabb.hpp"
 #include "libcd/narrow_phase/interval.hpp"
 
@@ -112,7 +116,8 @@ SNAG_HD_INLINE CcdResult edge_edge_ccd(const Vec3& ea0_t0, const Vec3& ea1_t0, c
   }
   if (!edge_edge_swept_overlap(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings.thickness) ||
       (settings.thickness == 0 && coplanarity_keeps_sign(ea0_t0, eb0_t0, ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1,
-                                                         eb0_t1, ea0_t1, ea1_t1, eb0_t1, eb1_t1))) {
+                                                         eb0_t1, ea0_t1, ea1_t1, eb0_t1, eb1_t1)) ||
+      edge_edge_separated(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings.thickness)) {
     return ccd_detail::make_result(CcdAnswer::kNo, 1, 1);
   }
   return ccd_detail::inclusion_ccd(contact, settings);

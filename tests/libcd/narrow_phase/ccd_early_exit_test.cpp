@@ -1,6 +1,8 @@
-// coplanarity_keeps_sign, the thickness-0 early exit of the CCD kernels: it
-// fires on pairs that stay off each other's plane, and never on contacts at
-// t = 0, at t = 1, inside the step, nor on coplanar or degenerate pairs.
+// The early exits of the CCD kernels. coplanarity_keeps_sign (thickness 0)
+// fires on pairs that stay off each other's plane; vertex_face_separated and
+// edge_edge_separated on pairs that a fixed direction keeps apart. Neither
+// fires on contacts at t = 0, at t = 1, inside the step, nor (the cubic) on
+// coplanar or degenerate pairs.
 // Random contacts are built exactly (small integers, dyadic times and
 // parameters) so that the ground truth is known without rounding.
 #include "libcd/narrow_phase/ccd_coplanarity_filter.hpp"
@@ -10,6 +12,7 @@
 #include <array>
 #include <random>
 
+#include "libcd/narrow_phase/ccd_separating_direction.hpp"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
 #include "tests/libcd/narrow_phase/ccd_test_support.hpp"
@@ -28,11 +31,22 @@ bool edge_edge_filter(const Points& x) {
   return coplanarity_keeps_sign(x[0], x[2], x[0], x[1], x[2], x[3], x[4], x[6], x[4], x[5], x[6], x[7]);
 }
 
-CcdResult vertex_face(const Points& x) {
-  return vertex_face_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], CcdSettings{});
+bool vertex_face_apart(const Points& x, double thickness) {
+  return vertex_face_separated(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], thickness);
 }
-CcdResult edge_edge(const Points& x) {
-  return edge_edge_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], CcdSettings{});
+bool edge_edge_apart(const Points& x, double thickness) {
+  return edge_edge_separated(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], thickness);
+}
+
+CcdResult vertex_face(const Points& x, double thickness = 0) {
+  CcdSettings settings;
+  settings.thickness = thickness;
+  return vertex_face_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings);
+}
+CcdResult edge_edge(const Points& x, double thickness = 0) {
+  CcdSettings settings;
+  settings.thickness = thickness;
+  return edge_edge_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings);
 }
 
 // The unit right triangle in z = 0, static, and a vertex from p_t0 to p_t1.
@@ -115,6 +129,36 @@ TEST(CoplanarityFilter, FiresOnEdgesThatStayApartAcrossTheirPlanes) {
   EXPECT_EQ(edge_edge(x).answer, CcdAnswer::kNo);
 }
 
+TEST(SeparatingDirection, FiresOnAVertexCrossingThePlaneBesideTheFace) {
+  // The vertex crosses z = 0 at x = 2, outside the unit triangle.
+  const Points x = static_face({2, 0.2, -1}, {2, 0.3, 1});
+  EXPECT_FALSE(vertex_face_filter(x));
+  EXPECT_TRUE(vertex_face_apart(x, 0));
+  EXPECT_TRUE(vertex_face_apart(x, 0.5));
+  EXPECT_FALSE(vertex_face_apart(x, 1.5));  // the gap is 1: too thick to separate
+  EXPECT_EQ(vertex_face(x).answer, CcdAnswer::kNo);
+  EXPECT_EQ(vertex_face(x, 0.5).answer, CcdAnswer::kNo);
+  EXPECT_NE(vertex_face(x, 1.5).answer, CcdAnswer::kNo);
+}
+
+TEST(SeparatingDirection, FiresOnAnEdgePassingBeyondTheOthersEnd) {
+  // The lines of the edges cross at t = 1/2 at (2, 0, 0), beyond edge a's end.
+  const Points x = {Vec3{0, 0, 0}, {1, 0, 0}, {2, -1, 1}, {2, 1, 1},
+                    Vec3{0, 0, 0}, {1, 0, 0}, {2, -1, -1}, {2, 1, -1}};
+  EXPECT_FALSE(edge_edge_filter(x));
+  EXPECT_TRUE(edge_edge_apart(x, 0));
+  EXPECT_TRUE(edge_edge_apart(x, 0.9));
+  EXPECT_FALSE(edge_edge_apart(x, 1.0));  // the gap is exactly 1: touching at that thickness
+  EXPECT_EQ(edge_edge(x).answer, CcdAnswer::kNo);
+  EXPECT_NE(edge_edge(x, 1.0).answer, CcdAnswer::kNo);
+}
+
+TEST(SeparatingDirection, DoesNotFireOnContactsAtTheEnds) {
+  EXPECT_FALSE(vertex_face_apart(static_face({0.25, 0.25, 0}, {3, 3, 1}), 0));
+  EXPECT_FALSE(vertex_face_apart(static_face({3, 3, 1}, {0, 0, 0}), 0));  // at a corner at t = 1
+  EXPECT_FALSE(vertex_face_apart(static_face({3, 3, 1}, {0.5, 0.5, 0}), 0));  // on an edge at t = 1
+}
+
 // --- random contacts built exactly -------------------------------------------
 
 // A random point with integer coordinates in [-64, 64].
@@ -160,6 +204,8 @@ TEST(CoplanarityFilter, NeverRejectsAVertexFaceContactBuiltExactly) {
     const Vec3 target = ((16 - u - v) / 16.0) * a + (u / 16.0) * b + (v / 16.0) * c;
     pass_through(x[0], x[4], target, t);
     ASSERT_FALSE(vertex_face_filter(x)) << "case " << i;
+    ASSERT_FALSE(vertex_face_apart(x, 0)) << "case " << i;
+    ASSERT_FALSE(vertex_face_apart(x, 0.5)) << "case " << i;
     ASSERT_NE(vertex_face(x).answer, CcdAnswer::kNo) << "case " << i;
   }
 }
@@ -177,6 +223,8 @@ TEST(CoplanarityFilter, NeverRejectsAnEdgeEdgeContactBuiltExactly) {
     // eb1 beyond the touching point, seen from eb0: the point lies on edge b.
     pass_through(x[3], x[7], touch + r * (touch - eb0), t);
     ASSERT_FALSE(edge_edge_filter(x)) << "case " << i;
+    ASSERT_FALSE(edge_edge_apart(x, 0)) << "case " << i;
+    ASSERT_FALSE(edge_edge_apart(x, 0.5)) << "case " << i;
     ASSERT_NE(edge_edge(x).answer, CcdAnswer::kNo) << "case " << i;
   }
 }
