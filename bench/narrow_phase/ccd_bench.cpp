@@ -1,8 +1,10 @@
-// Queries per second of the conservative CCD kernels: over the reference
-// query set (Wang et al. 2021, ../shared/data/ccd-queries/) and over random
-// random near-contact pairs (a vertex or an edge steered to pass a small gap
-// off the other primitive at one instant; their straight paths usually cross
-// it at another, so the counters report the mix of answers).
+// Queries per second of the conservative CCD kernels, on one thread: over the
+// reference query set (Wang et al. 2021, ../shared/data/ccd-queries/), over
+// the real candidates of a cloth step (../shared/data/meshes/cloth_ball92.ply
+// -> cloth_ball93.ply through the virtual subdivision grid broad phase), and
+// over random near-contact pairs (a vertex or an edge steered to pass a small
+// gap off the other primitive at one instant; their straight paths usually
+// cross it at another). The counters report the mix of answers.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -10,6 +12,8 @@
 #include <vector>
 
 #include "io/ccd_query_csv.hpp"
+#include "io/ply_reader.hpp"
+#include "libcd/broad_phase/broad_phase.hpp"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
 
@@ -39,6 +43,75 @@ void query_set_bench(benchmark::State& state, bool is_edge_edge) {
     for (const Points& x : points) benchmark::DoNotOptimize(run(is_edge_edge, x, settings));
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * points.size()));
+}
+
+void count_answer(const CcdResult& r, int64_t counts[3]) {
+  counts[0] += r.answer == CcdAnswer::kNo;
+  counts[1] += r.answer == CcdAnswer::kYes;
+  counts[2] += r.answer == CcdAnswer::kUncertain;
+}
+
+void report_answers(benchmark::State& state, const int64_t counts[3]) {
+  const double total = static_cast<double>(counts[0] + counts[1] + counts[2]);
+  state.counters["no"] = counts[0] / total;
+  state.counters["yes"] = counts[1] / total;
+  state.counters["uncertain"] = counts[2] / total;
+}
+
+// The vertex-face and edge-edge candidates of one real cloth step, as the
+// CPU back end would test them.
+struct RealCandidates {
+  std::vector<Points> vertex_face, edge_edge;
+};
+
+const RealCandidates& real_candidates() {
+  static const RealCandidates candidates = [] {
+    const std::string meshes = std::string(SNAG_SHARED_DATA_DIR) + "/meshes/";
+    const io::MeshData frame_t0 = io::read_ply(meshes + "cloth_ball92.ply");
+    const io::MeshData frame_t1 = io::read_ply(meshes + "cloth_ball93.ply");
+    std::vector<Triangle> triangles;
+    for (const io::MeshObject& object : frame_t0.objects) {
+      for (const Triangle& f : object.triangles) {
+        triangles.push_back({object.vertices[f[0]], object.vertices[f[1]], object.vertices[f[2]]});
+      }
+    }
+    const Scene scene({make_object("cloth", static_cast<Index>(frame_t0.positions.size()), triangles)});
+    BroadPhaseSettings settings;
+    settings.threads = 1;
+    const auto broad = make_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
+    broad->build(scene, settings);
+    std::vector<VertexFaceCandidate> vf;
+    std::vector<EdgeEdgeCandidate> ee;
+    const std::vector<Vec3>& x_t0 = frame_t0.positions;
+    const std::vector<Vec3>& x_t1 = frame_t1.positions;
+    broad->detect_ccd(x_t0, x_t1, vf, ee);
+    RealCandidates out;
+    for (const VertexFaceCandidate& c : vf) {
+      const Triangle& f = scene.triangles()[c.face];
+      out.vertex_face.push_back({x_t0[c.vertex], x_t0[f[0]], x_t0[f[1]], x_t0[f[2]], x_t1[c.vertex], x_t1[f[0]],
+                                 x_t1[f[1]], x_t1[f[2]]});
+    }
+    for (const EdgeEdgeCandidate& c : ee) {
+      const Edge& a = scene.edges()[c.edge_a];
+      const Edge& b = scene.edges()[c.edge_b];
+      out.edge_edge.push_back({x_t0[a[0]], x_t0[a[1]], x_t0[b[0]], x_t0[b[1]], x_t1[a[0]], x_t1[a[1]], x_t1[b[0]],
+                               x_t1[b[1]]});
+    }
+    return out;
+  }();
+  return candidates;
+}
+
+void real_candidates_bench(benchmark::State& state, bool is_edge_edge) {
+  const std::vector<Points>& points = is_edge_edge ? real_candidates().edge_edge : real_candidates().vertex_face;
+  const CcdSettings settings;
+  int64_t counts[3] = {0, 0, 0};
+  for (auto _ : state) {
+    for (const Points& x : points) count_answer(run(is_edge_edge, x, settings), counts);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * points.size()));
+  state.counters["candidates"] = static_cast<double>(points.size());
+  report_answers(state, counts);
 }
 
 // Random pairs that come within `gap` of touching: a random primitive, and the
@@ -86,24 +159,18 @@ void near_contact_bench(benchmark::State& state, bool is_edge_edge) {
   const double gap = std::ldexp(1.0, -static_cast<int>(state.range(0)));
   const std::vector<Points> points = near_contactes(is_edge_edge, gap, 1000);
   const CcdSettings settings;
-  int64_t no = 0, yes = 0, uncertain = 0;
+  int64_t counts[3] = {0, 0, 0};
   for (auto _ : state) {
-    for (const Points& x : points) {
-      const CcdResult r = run(is_edge_edge, x, settings);
-      no += r.answer == CcdAnswer::kNo;
-      yes += r.answer == CcdAnswer::kYes;
-      uncertain += r.answer == CcdAnswer::kUncertain;
-    }
+    for (const Points& x : points) count_answer(run(is_edge_edge, x, settings), counts);
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * points.size()));
-  const double total = static_cast<double>(no + yes + uncertain);
-  state.counters["no"] = no / total;
-  state.counters["yes"] = yes / total;
-  state.counters["uncertain"] = uncertain / total;
+  report_answers(state, counts);
 }
 
 BENCHMARK_CAPTURE(query_set_bench, vertex_face, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(query_set_bench, edge_edge, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(real_candidates_bench, vertex_face, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(real_candidates_bench, edge_edge, true)->Unit(benchmark::kMillisecond);
 // Gap 2^-10 and 2^-30 (scene size about 1).
 BENCHMARK_CAPTURE(near_contact_bench, vertex_face, false)->Arg(10)->Arg(30)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(near_contact_bench, edge_edge, true)->Arg(10)->Arg(30)->Unit(benchmark::kMillisecond);

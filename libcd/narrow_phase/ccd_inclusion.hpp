@@ -159,6 +159,18 @@ SNAG_HD_INLINE CcdResult make_result(CcdAnswer answer, double toi_lo, double toi
   return result;
 }
 
+/// True when all 8 points are finite with |coordinate| <= kMaxMagnitude and
+/// the thickness d satisfies 0 <= d <= kMaxMagnitude: the range in which the
+/// kernels' rounding bounds hold. NaN fails every comparison and is out.
+SNAG_HD_INLINE bool inputs_in_range(const Vec3 points[8], double d) {
+  for (int i = 0; i < 8; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (!(fabs(points[i][k]) <= kMaxMagnitude)) return false;
+    }
+  }
+  return d >= 0 && d <= kMaxMagnitude;
+}
+
 /// The search. Contact provides: `Vec3 points[8]` (the inputs),
 /// `corner_values(t, u, v, f)` (f[4 ti + 2 ui + vi] = F(t[ti], u[ui], v[vi])),
 /// `outside_domain(u_lo, v_lo)`, `corner_in_domain(u, v)` and

@@ -1,13 +1,25 @@
 // Conservative continuous collision detection of two edges, usable from host
 // and device code.
 //
-// Method: the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
+// Method: three proven early exits, then the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
 // "A Large Scale Benchmark and an Inclusion-Based Algorithm for Continuous
 // Collision Detection", ACM TOG 2021) on the contact function
 //   F(t, u, v) = [(1 - u) ea0(t) + u ea1(t)] - [(1 - v) eb0(t) + v eb1(t)],
 //   t, u, v in [0, 1],
 // where every end moves linearly, x(t) = (1 - t) x_t0 + t x_t1. The edges
 // are in contact at time t when |F(t, u, v)| <= thickness for some (u, v).
+//
+// Early exits, each proving kNo (most candidates of a real scene end here):
+//  1. the swept boxes of the two edges are more than the thickness apart
+//     along some axis (ccd_swept_aabb.hpp);
+//  2. at thickness 0, the coplanarity cubic g(t) below keeps one strict sign
+//     over [0, 1] (ccd_coplanarity_filter.hpp): the four ends are never
+//     coplanar, which touching edges must be; parallel or zero-length edges
+//     never pass this test.
+//  3. a fixed direction separates the two swept features over the whole
+//     step (ccd_separating_direction.hpp): most pairs whose planes cross but
+//     whose features pass beside each other.
+// Inputs out of range (see inclusion_ccd) answer kUncertain before any.
 //
 // Certificate of a crossing on [ta, tb], in outward-rounded interval
 // arithmetic, with da = ea1 - ea0, db = eb1 - eb0, w = eb0 - ea0,
@@ -24,8 +36,11 @@
 
 #include "libcd/core/host_device.hpp"
 #include "libcd/geometry/vec3.hpp"
+#include "libcd/narrow_phase/ccd_coplanarity_filter.hpp"
 #include "libcd/narrow_phase/ccd_inclusion.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
+#include "libcd/narrow_phase/ccd_separating_direction.hpp"
+#include "libcd/narrow_phase/ccd_swept_aabb.hpp"
 #include "libcd/narrow_phase/interval.hpp"
 
 namespace snag {
@@ -96,6 +111,15 @@ SNAG_HD_INLINE CcdResult edge_edge_ccd(const Vec3& ea0_t0, const Vec3& ea1_t0, c
                                        const Vec3& eb1_t0, const Vec3& ea0_t1, const Vec3& ea1_t1,
                                        const Vec3& eb0_t1, const Vec3& eb1_t1, const CcdSettings& settings) {
   const ccd_detail::EdgeEdgeContact contact{{ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1}};
+  if (!ccd_detail::inputs_in_range(contact.points, settings.thickness)) {
+    return ccd_detail::make_result(CcdAnswer::kUncertain, 0, 1);
+  }
+  if (!edge_edge_swept_overlap(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings.thickness) ||
+      (settings.thickness == 0 && coplanarity_keeps_sign(ea0_t0, eb0_t0, ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1,
+                                                         eb0_t1, ea0_t1, ea1_t1, eb0_t1, eb1_t1)) ||
+      edge_edge_separated(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings.thickness)) {
+    return ccd_detail::make_result(CcdAnswer::kNo, 1, 1);
+  }
   return ccd_detail::inclusion_ccd(contact, settings);
 }
 

@@ -1,13 +1,24 @@
 // Conservative continuous collision detection of a vertex against a triangle,
 // usable from host and device code.
 //
-// Method: the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
+// Method: three proven early exits, then the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
 // "A Large Scale Benchmark and an Inclusion-Based Algorithm for Continuous
 // Collision Detection", ACM TOG 2021) on the contact function
 //   F(t, u, v) = p(t) - [(1 - u - v) a(t) + u b(t) + v c(t)],
 //   t, u, v in [0, 1], u + v <= 1,
 // where every point moves linearly, x(t) = (1 - t) x_t0 + t x_t1. The pair is
 // in contact at time t when |F(t, u, v)| <= thickness for some (u, v).
+//
+// Early exits, each proving kNo (most candidates of a real scene end here):
+//  1. the swept boxes of the vertex and of the face are more than the
+//     thickness apart along some axis (ccd_swept_aabb.hpp);
+//  2. at thickness 0, the coplanarity cubic g(t) below keeps one strict sign
+//     over [0, 1] (ccd_coplanarity_filter.hpp): the vertex never reaches the
+//     triangle's plane, and a degenerate triangle never passes this test.
+//  3. a fixed direction separates the two swept features over the whole
+//     step (ccd_separating_direction.hpp): most pairs whose planes cross but
+//     whose features pass beside each other.
+// Inputs out of range (see inclusion_ccd) answer kUncertain before any.
 //
 // Certificate of a crossing on [ta, tb] (thickness 0 or more), in outward-
 // rounded interval arithmetic:
@@ -24,8 +35,11 @@
 
 #include "libcd/core/host_device.hpp"
 #include "libcd/geometry/vec3.hpp"
+#include "libcd/narrow_phase/ccd_coplanarity_filter.hpp"
 #include "libcd/narrow_phase/ccd_inclusion.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
+#include "libcd/narrow_phase/ccd_separating_direction.hpp"
+#include "libcd/narrow_phase/ccd_swept_aabb.hpp"
 #include "libcd/narrow_phase/interval.hpp"
 
 namespace snag {
@@ -93,6 +107,15 @@ SNAG_HD_INLINE CcdResult vertex_face_ccd(const Vec3& p_t0, const Vec3& a_t0, con
                                          const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
                                          const CcdSettings& settings) {
   const ccd_detail::VertexFaceContact contact{{p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1}};
+  if (!ccd_detail::inputs_in_range(contact.points, settings.thickness)) {
+    return ccd_detail::make_result(CcdAnswer::kUncertain, 0, 1);
+  }
+  if (!vertex_face_swept_overlap(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings.thickness) ||
+      (settings.thickness == 0 &&
+       coplanarity_keeps_sign(a_t0, p_t0, a_t0, b_t0, a_t0, c_t0, a_t1, p_t1, a_t1, b_t1, a_t1, c_t1)) ||
+      vertex_face_separated(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings.thickness)) {
+    return ccd_detail::make_result(CcdAnswer::kNo, 1, 1);
+  }
   return ccd_detail::inclusion_ccd(contact, settings);
 }
 

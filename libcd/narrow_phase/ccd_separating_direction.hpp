@@ -1,0 +1,125 @@
+// Early exit of the CCD kernels: a fixed direction that separates the two
+// swept features over the whole step, usable from host and device code.
+//
+// Separating axis argument (S. Gottschalk, M. C. Lin and D. Manocha, "OBBTree:
+// A Hierarchical Structure for Rapid Interference Detection", SIGGRAPH 1996,
+// for the static case). Let s be any fixed vector, feature A the convex hull
+// of points x_i(t) (a vertex; an edge's two ends) and feature B the convex
+// hull of points y_j(t) (a triangle's corners; an edge's ends), all moving
+// linearly. Each h_ij(t) = s . (y_j(t) - x_i(t)) is linear in t, so when
+// h_ij(0) > d |s| and h_ij(1) > d |s| for every i, j (d the thickness), then
+// for every t in [0, 1] and every convex combinations q_A, q_B of the points,
+// s . (q_B - q_A) = sum_ij lambda_i mu_j h_ij(t) > d |s|, hence
+// |q_B - q_A| > d: no contact over the step. The same holds with every
+// inequality reversed (s replaced by -s). Nothing requires s to be computed
+// exactly: it is any vector of doubles; only the signs of the h_ij must be
+// certain.
+//
+// Rounding bound (u = 2^-53, gamma_n = n u / (1 - n u), Higham, "Accuracy and
+// Stability of Numerical Algorithms", 2nd ed., ch. 3). Inputs are finite with
+// |coordinate| <= 1e60 (checked by the kernels first), so nothing overflows.
+//  1. h^ = fl(s . fl(y - x)): each of the three terms passes through one
+//     rounded difference, one product and at most two sums, so
+//     |h^ - h| <= gamma_4 sum_k |s_k| |y_k - x_k|, and with the computed
+//     A = fl(sum_k |s_k| |fl(y_k - x_k)|) >= (1 - u)^3 sum_k |s_k| |fl(y_k - x_k)|
+//     and |y_k - x_k| <= |fl(y_k - x_k)| / (1 - u): |h^ - h| < 4.45e-16 A.
+//     Underflow of the products adds at most 3 * 2^-1075.
+//  2. The margin: |s|_2 <= |s|_1, and M = fl(fl(d fl(|s|_1)) (1 + 1e-15))
+//     >= d |s|_1 (1 - u)^4 (1 + 1e-15).
+//  3. The test h^ > fl(M + fl(fl(5e-16 A) + 1e-300)): the right side is at
+//     least (1 - u)^3 times the exact sum of its terms, so at least
+//     (1 - u)^7 (1 + 1e-15) d |s|_1 + (1 - u)^3 (5e-16 A + 1e-300)
+//     > d |s|_1 + 4.45e-16 A + 3 * 2^-1075, and the test implies
+//     h > d |s|_1 >= d |s|_2 (likewise h^ < -(...) implies h < -d |s|_2).
+// A fused multiply-add only removes roundings, so the bounds hold with it.
+//
+// Directions tried: for a vertex against a triangle, the three in-plane
+// normals of the triangle's edges at t = 0 and at t = 1, and, for a thickness
+// above 0 (where the coplanarity exit does not apply), the triangle's normal
+// at both ends; for two edges, the in-plane normals of each edge in the plane
+// the two edges span, at both ends, and that plane's normal for a thickness
+// above 0. A degenerate feature gives zero directions, which never separate.
+#pragma once
+
+#include <math.h>
+
+#include "libcd/core/host_device.hpp"
+#include "libcd/geometry/vec3.hpp"
+
+namespace snag {
+namespace ccd_detail {
+
+/// Bounds the rounding error of h^ relative to A (see the file comment, step 1).
+constexpr double kSeparationErrorFactor = 5e-16;
+constexpr double kSeparationUnderflowSlack = 1e-300;
+/// Makes the thickness margin an upper bound of d |s|_2 (step 2).
+constexpr double kSeparationMarginFactor = 1 + 1e-15;
+
+/// True when s . diff[i] > d |s| for all i < count, or s . diff[i] < -d |s|
+/// for all: the points whose differences these are lie strictly apart along s.
+/// diff[i] are the computed differences y - x (see the file comment).
+SNAG_HD_INLINE bool separates(const Vec3& s, const Vec3* diff, int count, double d) {
+  const double margin = d * (fabs(s.x) + fabs(s.y) + fabs(s.z)) * kSeparationMarginFactor;
+  int sign = 0;
+  for (int i = 0; i < count; ++i) {
+    const double h = dot(s, diff[i]);
+    const double a = fabs(s.x) * fabs(diff[i].x) + fabs(s.y) * fabs(diff[i].y) + fabs(s.z) * fabs(diff[i].z);
+    const double bound = margin + (kSeparationErrorFactor * a + kSeparationUnderflowSlack);
+    const int this_sign = h > bound ? 1 : (h < -bound ? -1 : 0);
+    if (this_sign == 0 || (sign != 0 && this_sign != sign)) return false;
+    sign = this_sign;
+  }
+  return true;
+}
+
+}  // namespace ccd_detail
+
+/// True when some fixed direction provably keeps vertex p strictly more than
+/// `thickness` (>= 0, scene units) away from triangle (a, b, c) for every t
+/// in [0, 1], all points moving linearly from _t0 to _t1. Requires finite
+/// inputs with |coordinate| <= 1e60. Never throws.
+SNAG_HD_INLINE bool vertex_face_separated(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                                          const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                                          double thickness) {
+  using ccd_detail::separates;
+  // Vertex minus each corner, at both ends.
+  const Vec3 diff[6] = {p_t0 - a_t0, p_t0 - b_t0, p_t0 - c_t0, p_t1 - a_t1, p_t1 - b_t1, p_t1 - c_t1};
+  const Vec3* corners[2][3] = {{&a_t0, &b_t0, &c_t0}, {&a_t1, &b_t1, &c_t1}};
+  for (int end = 0; end < 2; ++end) {
+    const Vec3& a = *corners[end][0];
+    const Vec3& b = *corners[end][1];
+    const Vec3& c = *corners[end][2];
+    const Vec3 n = cross(b - a, c - a);
+    if (separates(cross(b - a, n), diff, 6, thickness) || separates(cross(c - b, n), diff, 6, thickness) ||
+        separates(cross(a - c, n), diff, 6, thickness)) {
+      return true;
+    }
+    if (thickness > 0 && separates(n, diff, 6, thickness)) return true;
+  }
+  return false;
+}
+
+/// True when some fixed direction provably keeps edge (ea0, ea1) strictly
+/// more than `thickness` (>= 0, scene units) away from edge (eb0, eb1) for
+/// every t in [0, 1], all ends moving linearly from _t0 to _t1. Requires
+/// finite inputs with |coordinate| <= 1e60. Never throws.
+SNAG_HD_INLINE bool edge_edge_separated(const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0,
+                                        const Vec3& eb1_t0, const Vec3& ea0_t1, const Vec3& ea1_t1,
+                                        const Vec3& eb0_t1, const Vec3& eb1_t1, double thickness) {
+  using ccd_detail::separates;
+  // Each end of b minus each end of a, at both ends of the step.
+  const Vec3 diff[8] = {eb0_t0 - ea0_t0, eb0_t0 - ea1_t0, eb1_t0 - ea0_t0, eb1_t0 - ea1_t0,
+                        eb0_t1 - ea0_t1, eb0_t1 - ea1_t1, eb1_t1 - ea0_t1, eb1_t1 - ea1_t1};
+  const Vec3 da[2] = {ea1_t0 - ea0_t0, ea1_t1 - ea0_t1};
+  const Vec3 db[2] = {eb1_t0 - eb0_t0, eb1_t1 - eb0_t1};
+  for (int end = 0; end < 2; ++end) {
+    const Vec3 n = cross(da[end], db[end]);
+    if (separates(cross(da[end], n), diff, 8, thickness) || separates(cross(db[end], n), diff, 8, thickness)) {
+      return true;
+    }
+    if (thickness > 0 && separates(n, diff, 8, thickness)) return true;
+  }
+  return false;
+}
+
+}  // namespace snag
