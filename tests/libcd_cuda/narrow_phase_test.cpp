@@ -162,8 +162,10 @@ TEST_F(NarrowPhaseTrianglePairs, MatchesCpuOnRandomPairsWithSharedVertices) {
   std::uniform_real_distribution<double> coordinate(0, 1);
   std::vector<Vec3> x(300);
   for (Vec3& p : x) p = {coordinate(random), coordinate(random), coordinate(random)};
-  // A few exact coplanar points, for the exact stage.
-  for (int i = 0; i < 30; ++i) x[i].z = 0.5;
+  // Points on a tilted plane, rounded to doubles: nearly coplanar, so the
+  // floating-point filter cannot decide and the exact stage runs.
+  const Vec3 origin{0.1, 0.2, 0.3}, u{0.7, 0.1, 0.3}, v{0.2, 0.9, -0.4};
+  for (int i = 0; i < 30; ++i) x[i] = origin + coordinate(random) * u + coordinate(random) * v;
   std::uniform_int_distribution<Index> vertex(0, 299);
   std::vector<Triangle> triangles(400);
   for (Triangle& t : triangles) t = {vertex(random), vertex(random), vertex(random)};
