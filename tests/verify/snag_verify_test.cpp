@@ -147,10 +147,10 @@ TEST_F(SnagVerify, FlagsTheOneAddedFalseEvent) {
 
   json edited = report_;
   const json added{{"kind", "collision"},
-                   {"frame", 0},
+                   {"frame", 26},  // reports name frames by the cache's own index
                    {"type", "vf"},
-                   {"toi", 0.5},
-                   {"toi_interval", {0.5, 0.5}},
+                   {"toi", 26.5},
+                   {"toi_interval", {26.5, 26.5}},
                    {"a", {{"object", scene.objects()[0].name}, {"vertex", cloth_vertex}}},
                    {"b", {{"object", scene.objects()[1].name}, {"face", 0}}},
                    {"certainty", "proven"},

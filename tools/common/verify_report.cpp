@@ -1,5 +1,7 @@
 #include "tools/common/verify_report.hpp"
 
+#include <map>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -122,8 +124,16 @@ const char* type_name(ContactType type) {
 
 // An event as JSON: kind, type, frame, a, b, and for collisions the toi
 // interval in frame units.
-json event_json(const Scene& scene, const Event& e) {
-  json out{{"kind", e.kind == EventKind::kCollision ? "collision" : "intersection"}, {"frame", e.frame}};
+// Events hold frames as positions in the (selected) source; reports and
+// output name them by the cache's own index, as snag-scan does.
+double cache_frame(const FrameSource& source, std::size_t frame) {
+  return static_cast<double>(source.frame_index(frame));
+}
+
+json event_json(const FrameSource& source, const Event& e) {
+  const Scene& scene = source.scene();
+  json out{{"kind", e.kind == EventKind::kCollision ? "collision" : "intersection"},
+           {"frame", source.frame_index(e.frame)}};
   if (e.kind == EventKind::kCollision) {
     out["type"] = type_name(e.type);
     if (e.type == ContactType::kVertexFace) {
@@ -140,9 +150,7 @@ json event_json(const Scene& scene, const Event& e) {
   return out;
 }
 
-json interval(std::size_t frame, double lo, double hi) {
-  return {static_cast<double>(frame) + lo, static_cast<double>(frame) + hi};
-}
+json interval(double frame, double lo, double hi) { return {frame + lo, frame + hi}; }
 
 struct Counts {
   std::size_t confirmed = 0, false_events = 0, toi_mismatches = 0;
@@ -160,14 +168,15 @@ Counts count_verdicts(const validate::VerifyResult& result) {
   return counts;
 }
 
-std::string event_line(const Scene& scene, const Event& e) {
+std::string event_line(const FrameSource& source, const Event& e) {
   std::ostringstream line;
   if (e.kind == EventKind::kCollision) {
-    line << "collision " << type_name(e.type) << " step " << e.frame << "->" << e.frame + 1;
+    line << "collision " << type_name(e.type) << " step " << source.frame_index(e.frame) << "->"
+         << source.frame_index(e.frame + 1);
   } else {
-    line << "intersection frame " << e.frame;
+    line << "intersection frame " << source.frame_index(e.frame);
   }
-  line << ": " << describe_pair(scene, e);
+  line << ": " << describe_pair(source.scene(), e);
   return line.str();
 }
 
@@ -249,6 +258,11 @@ std::vector<Event> report_events(const ScanReport& report, const FrameSource& so
                          " frames, the cache (after frame selection) has " + std::to_string(frame_count));
   }
 
+  // The report names frames by the cache's own index; events hold positions
+  // in the (selected) source.
+  std::map<std::size_t, std::size_t> position_of_frame;
+  for (std::size_t i = 0; i < frame_count; ++i) position_of_frame[source.frame_index(i)] = i;
+
   std::vector<Event> events;
   const json& list = report.json.at("events");
   events.reserve(list.size());
@@ -257,7 +271,12 @@ std::vector<Event> report_events(const ScanReport& report, const FrameSource& so
     const std::string where = "event " + std::to_string(i);
     Event e;
     const std::string kind = string_member(path, item, "kind", where);
-    e.frame = unsigned_member(path, item, "frame", where);
+    const std::size_t reported_frame = unsigned_member(path, item, "frame", where);
+    const auto position = position_of_frame.find(reported_frame);
+    if (position == position_of_frame.end()) {
+      bad_report(path, where + ": frame " + std::to_string(reported_frame) + " is not among the frames read");
+    }
+    e.frame = position->second;
     const json& a = member(path, item, "a", where.c_str());
     const json& b = member(path, item, "b", where.c_str());
     if (kind == "collision") {
@@ -283,8 +302,8 @@ std::vector<Event> report_events(const ScanReport& report, const FrameSource& so
       if (!toi.is_array() || toi.size() != 2 || !toi[0].is_number() || !toi[1].is_number()) {
         bad_report(path, where + ": \"toi_interval\" is not a pair of numbers");
       }
-      e.toi_lo = toi[0].get<double>() - static_cast<double>(e.frame);
-      e.toi_hi = toi[1].get<double>() - static_cast<double>(e.frame);
+      e.toi_lo = toi[0].get<double>() - static_cast<double>(reported_frame);
+      e.toi_hi = toi[1].get<double>() - static_cast<double>(reported_frame);
       if (!(e.toi_lo <= e.toi_hi)) bad_report(path, where + ": \"toi_interval\" is empty");
       if (item.contains("certainty") && item.at("certainty") == "uncertain") e.certainty = Certainty::kUncertain;
     } else if (kind == "intersection") {
@@ -341,22 +360,22 @@ json verification_json(const FrameSource& source, const std::vector<Event>& repo
   for (std::size_t i = 0; i < reported.size(); ++i) {
     const validate::EventCheck& check = result.checks[i];
     if (check.verdict == validate::Verdict::kConfirmed) continue;
-    json item = event_json(scene, reported[i]);
+    json item = event_json(source, reported[i]);
     item["report_index"] = i;
     item["reason"] = check.reason;
     if (reported[i].kind == EventKind::kCollision) {
-      item["toi_interval"] = interval(reported[i].frame, reported[i].toi_lo, reported[i].toi_hi);
+      item["toi_interval"] = interval(cache_frame(source, reported[i].frame), reported[i].toi_lo, reported[i].toi_hi);
     }
     if (check.verdict == validate::Verdict::kFalse) {
       false_events.push_back(std::move(item));
     } else {
-      item["exact_toi_interval"] = interval(reported[i].frame, check.exact_toi_lo, check.exact_toi_hi);
+      item["exact_toi_interval"] = interval(cache_frame(source, reported[i].frame), check.exact_toi_lo, check.exact_toi_hi);
       mismatches.push_back(std::move(item));
     }
   }
   for (const Event& e : result.missed) {
-    json item = event_json(scene, e);
-    if (e.kind == EventKind::kCollision) item["exact_toi_interval"] = interval(e.frame, e.toi_lo, e.toi_hi);
+    json item = event_json(source, e);
+    if (e.kind == EventKind::kCollision) item["exact_toi_interval"] = interval(cache_frame(source, e.frame), e.toi_lo, e.toi_hi);
     missed.push_back(std::move(item));
   }
   return {{"version", 1},
@@ -403,20 +422,20 @@ void print_verification(std::FILE* out, const FrameSource& source, const std::ve
     if (check.verdict == validate::Verdict::kConfirmed) continue;
     const Event& e = reported[i];
     if (check.verdict == validate::Verdict::kFalse) {
-      std::fprintf(out, "false: event %zu, %s (%s)\n", i, event_line(scene, e).c_str(), check.reason.c_str());
+      std::fprintf(out, "false: event %zu, %s (%s)\n", i, event_line(source, e).c_str(), check.reason.c_str());
     } else {
       std::fprintf(out, "toi mismatch: event %zu, %s: reported [%.17g, %.17g], exact [%.17g, %.17g]\n", i,
-                   event_line(scene, e).c_str(), static_cast<double>(e.frame) + e.toi_lo,
-                   static_cast<double>(e.frame) + e.toi_hi, static_cast<double>(e.frame) + check.exact_toi_lo,
-                   static_cast<double>(e.frame) + check.exact_toi_hi);
+                   event_line(source, e).c_str(), cache_frame(source, e.frame) + e.toi_lo,
+                   cache_frame(source, e.frame) + e.toi_hi, cache_frame(source, e.frame) + check.exact_toi_lo,
+                   cache_frame(source, e.frame) + check.exact_toi_hi);
     }
   }
   for (const Event& e : result.missed) {
     if (e.kind == EventKind::kCollision) {
-      std::fprintf(out, "missed: %s, toi in [%.17g, %.17g]\n", event_line(scene, e).c_str(),
-                   static_cast<double>(e.frame) + e.toi_lo, static_cast<double>(e.frame) + e.toi_hi);
+      std::fprintf(out, "missed: %s, toi in [%.17g, %.17g]\n", event_line(source, e).c_str(),
+                   cache_frame(source, e.frame) + e.toi_lo, cache_frame(source, e.frame) + e.toi_hi);
     } else {
-      std::fprintf(out, "missed: %s\n", event_line(scene, e).c_str());
+      std::fprintf(out, "missed: %s\n", event_line(source, e).c_str());
     }
   }
 }
