@@ -36,8 +36,8 @@ BenchScene load_mesh_pair(const std::string& name, const std::string& t0_path, c
 
 BenchScene load_sample(const std::string& sample_dir, std::size_t steps) {
   io::CacheOptions options;
-  options.inputs.push_back({sample_dir + "/cloth.pc2", sample_dir + "/cloth_rest.obj", "cloth"});
-  options.inputs.push_back({sample_dir + "/body.pc2", sample_dir + "/body_rest.obj", "body"});
+  options.inputs.push_back({sample_dir + "/cloth.pc2", sample_dir + "/cloth_rest.obj", "cloth", {}});
+  options.inputs.push_back({sample_dir + "/body.pc2", sample_dir + "/body_rest.obj", "body", {}});
   if (steps > 0) options.frames.last = steps;
   const auto source = io::open_cache(options);
   BenchScene bench;
