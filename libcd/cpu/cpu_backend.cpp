@@ -14,7 +14,7 @@
 #include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
 #include "libcd/pipeline/backend.hpp"
-#include "libcd/pipeline/event_position.hpp"
+#include "libcd/pipeline/event_builder.hpp"
 
 namespace snag {
 
@@ -95,17 +95,7 @@ class CpuBackend final : public Backend {
       stats_.narrow.triangle_tests = pairs_.size();
       for (std::size_t i = 0; i < pairs_.size(); ++i) {
         if (!hit[i]) continue;
-        const Triangle& ta = triangles[pairs_[i].a];
-        const Triangle& tb = triangles[pairs_[i].b];
-        const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
-        const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
-        Event event;
-        event.kind = EventKind::kIntersection;
-        event.type = ContactType::kTriangleTriangle;
-        event.a = pairs_[i].a;
-        event.b = pairs_[i].b;
-        event.position = triangles_meeting_point(a, b);
-        events.push_back(event);
+        events.push_back(intersection_event(*scene_, x, pairs_[i]));
         ++stats_.narrow.triangles_intersecting;
       }
       stats_.narrow.seconds_static = seconds_since(start);
@@ -163,72 +153,39 @@ class CpuBackend final : public Backend {
   }
 
   void narrow_vertex_face(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    const auto& triangles = scene_->triangles();
+    const Scene& scene = *scene_;
     const CcdSettings ccd = settings_.ccd;
     struct Emit {
-      const std::vector<Triangle>& triangles;
+      const Scene& scene;
       const std::vector<Vec3>& x_t0;
       const std::vector<Vec3>& x_t1;
-      std::array<Vec3, 8> points(const VertexFaceCandidate& c) const {
-        const Triangle& f = triangles[c.face];
-        return {x_t0[c.vertex], x_t0[f[0]], x_t0[f[1]], x_t0[f[2]],
-                x_t1[c.vertex], x_t1[f[0]], x_t1[f[1]], x_t1[f[2]]};
+      std::array<Vec3, 8> points(const VertexFaceCandidate& c) const { return vertex_face_points(scene, x_t0, x_t1, c); }
+      Event event(const VertexFaceCandidate& c, const CcdOutcome& o) const {
+        return vertex_face_event(scene, x_t0, x_t1, c, o.result);
       }
-      Event event(const VertexFaceCandidate& c, const CcdOutcome& outcome) const {
-        Event e;
-        e.kind = EventKind::kCollision;
-        e.type = ContactType::kVertexFace;
-        e.a = c.vertex;
-        e.b = c.face;
-        e.toi_lo = outcome.result.toi_lo;
-        e.toi_hi = outcome.result.toi_hi;
-        e.certainty = outcome.result.answer == CcdAnswer::kYes ? Certainty::kProven : Certainty::kUncertain;
-        e.position = lerp(x_t0[c.vertex], x_t1[c.vertex], 0.5 * (e.toi_lo + e.toi_hi));
-        return e;
-      }
-    } emit{triangles, x_t0, x_t1};
+    } emit{scene, x_t0, x_t1};
     auto test = [&](const VertexFaceCandidate& c) {
-      const Triangle& f = triangles[c.face];
-      return vertex_face_ccd(x_t0[c.vertex], x_t0[f[0]], x_t0[f[1]], x_t0[f[2]], x_t1[c.vertex], x_t1[f[0]],
-                             x_t1[f[1]], x_t1[f[2]], ccd);
+      const std::array<Vec3, 8> p = vertex_face_points(scene, x_t0, x_t1, c);
+      return vertex_face_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], ccd);
     };
     run_ccd(vf_, false, test, emit, events);
   }
 
   void narrow_edge_edge(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    const auto& edges = scene_->edges();
+    const Scene& scene = *scene_;
     const CcdSettings ccd = settings_.ccd;
     struct Emit {
-      const std::vector<Edge>& edges;
+      const Scene& scene;
       const std::vector<Vec3>& x_t0;
       const std::vector<Vec3>& x_t1;
-      std::array<Vec3, 8> points(const EdgeEdgeCandidate& c) const {
-        const Edge& a = edges[c.edge_a];
-        const Edge& b = edges[c.edge_b];
-        return {x_t0[a[0]], x_t0[a[1]], x_t0[b[0]], x_t0[b[1]], x_t1[a[0]], x_t1[a[1]], x_t1[b[0]], x_t1[b[1]]};
+      std::array<Vec3, 8> points(const EdgeEdgeCandidate& c) const { return edge_edge_points(scene, x_t0, x_t1, c); }
+      Event event(const EdgeEdgeCandidate& c, const CcdOutcome& o) const {
+        return edge_edge_event(scene, x_t0, x_t1, c, o.result);
       }
-      Event event(const EdgeEdgeCandidate& c, const CcdOutcome& outcome) const {
-        Event e;
-        e.kind = EventKind::kCollision;
-        e.type = ContactType::kEdgeEdge;
-        e.a = c.edge_a;
-        e.b = c.edge_b;
-        e.toi_lo = outcome.result.toi_lo;
-        e.toi_hi = outcome.result.toi_hi;
-        e.certainty = outcome.result.answer == CcdAnswer::kYes ? Certainty::kProven : Certainty::kUncertain;
-        const double t = 0.5 * (e.toi_lo + e.toi_hi);
-        const Edge& a = edges[c.edge_a];
-        const Edge& b = edges[c.edge_b];
-        e.position = segments_meeting_point(lerp(x_t0[a[0]], x_t1[a[0]], t), lerp(x_t0[a[1]], x_t1[a[1]], t),
-                                            lerp(x_t0[b[0]], x_t1[b[0]], t), lerp(x_t0[b[1]], x_t1[b[1]], t));
-        return e;
-      }
-    } emit{edges, x_t0, x_t1};
+    } emit{scene, x_t0, x_t1};
     auto test = [&](const EdgeEdgeCandidate& c) {
-      const Edge& a = edges[c.edge_a];
-      const Edge& b = edges[c.edge_b];
-      return edge_edge_ccd(x_t0[a[0]], x_t0[a[1]], x_t0[b[0]], x_t0[b[1]], x_t1[a[0]], x_t1[a[1]], x_t1[b[0]],
-                           x_t1[b[1]], ccd);
+      const std::array<Vec3, 8> p = edge_edge_points(scene, x_t0, x_t1, c);
+      return edge_edge_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], ccd);
     };
     run_ccd(ee_, true, test, emit, events);
   }

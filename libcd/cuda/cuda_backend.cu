@@ -31,7 +31,7 @@
 #include "libcd/cuda/cuda_event.cuh"
 #include "libcd/cuda/device_buffer.cuh"
 #include "libcd/cuda/narrow_phase.cuh"
-#include "libcd/pipeline/event_position.hpp"
+#include "libcd/pipeline/event_builder.hpp"
 
 #if __has_include("libcd/cuda/cuda_broad_phase.hpp")
 #include "libcd/cuda/cuda_broad_phase.hpp"
@@ -196,19 +196,8 @@ class CudaBackend final : public Backend {
     stats_.narrow.predicate_calls = counts.predicate_calls;
     stats_.narrow.predicate_exact = counts.predicate_exact;
     stats_.narrow.triangle_tests = pairs_.size();
-    const auto& triangles = scene_->triangles();
     for (const std::uint32_t i : hits) {
-      const Triangle& ta = triangles[pairs_[i].a];
-      const Triangle& tb = triangles[pairs_[i].b];
-      const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
-      const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
-      Event event;
-      event.kind = EventKind::kIntersection;
-      event.type = ContactType::kTriangleTriangle;
-      event.a = pairs_[i].a;
-      event.b = pairs_[i].b;
-      event.position = triangles_meeting_point(a, b);
-      events.push_back(event);
+      events.push_back(intersection_event(*scene_, x, pairs_[i]));
       ++stats_.narrow.triangles_intersecting;
     }
     stats_.narrow.seconds_static = seconds_since(start);
@@ -313,63 +302,30 @@ class CudaBackend final : public Backend {
   void emit_vertex_face(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, const std::vector<CcdHit>& hits,
                         std::vector<Event>& events) {
     struct Emit {
+      const Scene& scene;
       const std::vector<VertexFaceCandidate>& candidates;
-      const std::vector<Triangle>& triangles;
       const std::vector<Vec3>& x_t0;
       const std::vector<Vec3>& x_t1;
-      std::array<Vec3, 8> points(std::uint32_t i) const {
-        const VertexFaceCandidate& c = candidates[i];
-        const Triangle& f = triangles[c.face];
-        return {x_t0[c.vertex], x_t0[f[0]], x_t0[f[1]], x_t0[f[2]],
-                x_t1[c.vertex], x_t1[f[0]], x_t1[f[1]], x_t1[f[2]]};
-      }
+      std::array<Vec3, 8> points(std::uint32_t i) const { return vertex_face_points(scene, x_t0, x_t1, candidates[i]); }
       Event event(std::uint32_t i, const CcdResult& result) const {
-        const VertexFaceCandidate& c = candidates[i];
-        Event e;
-        e.kind = EventKind::kCollision;
-        e.type = ContactType::kVertexFace;
-        e.a = c.vertex;
-        e.b = c.face;
-        e.toi_lo = result.toi_lo;
-        e.toi_hi = result.toi_hi;
-        e.certainty = result.answer == CcdAnswer::kYes ? Certainty::kProven : Certainty::kUncertain;
-        e.position = lerp(x_t0[c.vertex], x_t1[c.vertex], 0.5 * (e.toi_lo + e.toi_hi));
-        return e;
+        return vertex_face_event(scene, x_t0, x_t1, candidates[i], result);
       }
-    } emit{vf_, scene_->triangles(), x_t0, x_t1};
+    } emit{*scene_, vf_, x_t0, x_t1};
     finish_ccd(vf_.size(), hits, false, emit, events);
   }
 
   void emit_edge_edge(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, const std::vector<CcdHit>& hits,
                       std::vector<Event>& events) {
     struct Emit {
+      const Scene& scene;
       const std::vector<EdgeEdgeCandidate>& candidates;
-      const std::vector<Edge>& edges;
       const std::vector<Vec3>& x_t0;
       const std::vector<Vec3>& x_t1;
-      std::array<Vec3, 8> points(std::uint32_t i) const {
-        const Edge& a = edges[candidates[i].edge_a];
-        const Edge& b = edges[candidates[i].edge_b];
-        return {x_t0[a[0]], x_t0[a[1]], x_t0[b[0]], x_t0[b[1]], x_t1[a[0]], x_t1[a[1]], x_t1[b[0]], x_t1[b[1]]};
-      }
+      std::array<Vec3, 8> points(std::uint32_t i) const { return edge_edge_points(scene, x_t0, x_t1, candidates[i]); }
       Event event(std::uint32_t i, const CcdResult& result) const {
-        const EdgeEdgeCandidate& c = candidates[i];
-        Event e;
-        e.kind = EventKind::kCollision;
-        e.type = ContactType::kEdgeEdge;
-        e.a = c.edge_a;
-        e.b = c.edge_b;
-        e.toi_lo = result.toi_lo;
-        e.toi_hi = result.toi_hi;
-        e.certainty = result.answer == CcdAnswer::kYes ? Certainty::kProven : Certainty::kUncertain;
-        const double t = 0.5 * (e.toi_lo + e.toi_hi);
-        const Edge& a = edges[c.edge_a];
-        const Edge& b = edges[c.edge_b];
-        e.position = segments_meeting_point(lerp(x_t0[a[0]], x_t1[a[0]], t), lerp(x_t0[a[1]], x_t1[a[1]], t),
-                                            lerp(x_t0[b[0]], x_t1[b[0]], t), lerp(x_t0[b[1]], x_t1[b[1]], t));
-        return e;
+        return edge_edge_event(scene, x_t0, x_t1, candidates[i], result);
       }
-    } emit{ee_, scene_->edges(), x_t0, x_t1};
+    } emit{*scene_, ee_, x_t0, x_t1};
     finish_ccd(ee_.size(), hits, true, emit, events);
   }
 

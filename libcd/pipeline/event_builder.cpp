@@ -1,0 +1,68 @@
+#include "libcd/pipeline/event_builder.hpp"
+
+#include "libcd/pipeline/event_position.hpp"
+
+namespace snag {
+
+namespace {
+
+Event collision(ContactType type, Index a, Index b, const CcdResult& result) {
+  Event e;
+  e.kind = EventKind::kCollision;
+  e.type = type;
+  e.a = a;
+  e.b = b;
+  e.toi_lo = result.toi_lo;
+  e.toi_hi = result.toi_hi;
+  e.certainty = result.answer == CcdAnswer::kYes ? Certainty::kProven : Certainty::kUncertain;
+  return e;
+}
+
+}  // namespace
+
+std::array<Vec3, 8> vertex_face_points(const Scene& scene, const std::vector<Vec3>& x_t0,
+                                       const std::vector<Vec3>& x_t1, const VertexFaceCandidate& c) {
+  const Triangle& f = scene.triangles()[c.face];
+  return {x_t0[c.vertex], x_t0[f[0]], x_t0[f[1]], x_t0[f[2]], x_t1[c.vertex], x_t1[f[0]], x_t1[f[1]], x_t1[f[2]]};
+}
+
+std::array<Vec3, 8> edge_edge_points(const Scene& scene, const std::vector<Vec3>& x_t0,
+                                     const std::vector<Vec3>& x_t1, const EdgeEdgeCandidate& c) {
+  const Edge& a = scene.edges()[c.edge_a];
+  const Edge& b = scene.edges()[c.edge_b];
+  return {x_t0[a[0]], x_t0[a[1]], x_t0[b[0]], x_t0[b[1]], x_t1[a[0]], x_t1[a[1]], x_t1[b[0]], x_t1[b[1]]};
+}
+
+Event vertex_face_event(const Scene&, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                        const VertexFaceCandidate& c, const CcdResult& result) {
+  Event e = collision(ContactType::kVertexFace, c.vertex, c.face, result);
+  e.position = lerp(x_t0[c.vertex], x_t1[c.vertex], 0.5 * (e.toi_lo + e.toi_hi));
+  return e;
+}
+
+Event edge_edge_event(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                      const EdgeEdgeCandidate& c, const CcdResult& result) {
+  Event e = collision(ContactType::kEdgeEdge, c.edge_a, c.edge_b, result);
+  const double t = 0.5 * (e.toi_lo + e.toi_hi);
+  const Edge& a = scene.edges()[c.edge_a];
+  const Edge& b = scene.edges()[c.edge_b];
+  e.position = segments_meeting_point(lerp(x_t0[a[0]], x_t1[a[0]], t), lerp(x_t0[a[1]], x_t1[a[1]], t),
+                                      lerp(x_t0[b[0]], x_t1[b[0]], t), lerp(x_t0[b[1]], x_t1[b[1]], t));
+  return e;
+}
+
+Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const TrianglePair& pair) {
+  const Triangle& ta = scene.triangles()[pair.a];
+  const Triangle& tb = scene.triangles()[pair.b];
+  const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
+  const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
+  Event e;
+  e.kind = EventKind::kIntersection;
+  e.type = ContactType::kTriangleTriangle;
+  e.a = pair.a;
+  e.b = pair.b;
+  e.position = triangles_meeting_point(a, b);
+  return e;
+}
+
+}  // namespace snag

@@ -1,0 +1,34 @@
+// Events from narrow-phase answers, built the same way by every back end so
+// that their reports are bit-identical: the ids, the time-of-impact enclosure,
+// the certainty, and a representative position (event_position.hpp).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "libcd/broad_phase/candidates.hpp"
+#include "libcd/narrow_phase/ccd_result.hpp"
+#include "libcd/pipeline/event.hpp"
+#include "libcd/scene/scene.hpp"
+
+namespace snag {
+
+/// The 8 positions of a VF query: v_t0, f0_t0, f1_t0, f2_t0, then the same at t1
+/// (the row order of Certifier::vertex_face). x_t0, x_t1: #V global positions.
+std::array<Vec3, 8> vertex_face_points(const Scene& scene, const std::vector<Vec3>& x_t0,
+                                       const std::vector<Vec3>& x_t1, const VertexFaceCandidate& candidate);
+/// The 8 positions of an EE query: ea0, ea1, eb0, eb1 at t0, then at t1.
+std::array<Vec3, 8> edge_edge_points(const Scene& scene, const std::vector<Vec3>& x_t0,
+                                     const std::vector<Vec3>& x_t1, const EdgeEdgeCandidate& candidate);
+
+/// A collision event (frame 0; the scan sets it) from a kYes or kUncertain
+/// answer; the position is the contact point at the middle of the toi enclosure.
+Event vertex_face_event(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                        const VertexFaceCandidate& candidate, const CcdResult& result);
+Event edge_edge_event(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                      const EdgeEdgeCandidate& candidate, const CcdResult& result);
+
+/// An intersection event (frame 0) of an intersecting triangle pair at positions x.
+Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const TrianglePair& pair);
+
+}  // namespace snag
