@@ -2,8 +2,6 @@
 
 namespace snag::tools {
 
-namespace {
-
 using nlohmann::json;
 
 const char* type_name(ContactType type) {
@@ -31,6 +29,8 @@ json edge_ref(const Scene& scene, Index e) {
   const Index base = scene.vertex_offset(o);
   return {{"object", scene.objects()[o].name}, {"edge", {edge[0] - base, edge[1] - base}}};
 }
+
+namespace {
 
 json broad_json(const BroadPhaseStats& s) {
   return {{"cell_size", s.cell_size},

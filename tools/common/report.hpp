@@ -19,6 +19,14 @@ struct ReportSettings {
   std::string source;      ///< FrameSource::description()
 };
 
+/// Element references as reports write them: {"object": name, "vertex" | "face": local id}
+/// or {"object": name, "edge": [two local vertex ids]}, from global ids of `scene`.
+nlohmann::json vertex_ref(const Scene& scene, Index v);
+nlohmann::json face_ref(const Scene& scene, Index f);
+nlohmann::json edge_ref(const Scene& scene, Index e);
+/// "vf", "ee" or "tt".
+const char* type_name(ContactType type);
+
 /// Current report schema version.
 constexpr int kReportVersion = 1;
 

@@ -1,4 +1,5 @@
 #include "tools/common/verify_report.hpp"
+#include "tools/common/report.hpp"
 
 #include <map>
 
@@ -96,31 +97,6 @@ Index edge_id(const ScanReport& report, const Scene& scene, const json& ref, con
   return scene.edge_offset(o) + static_cast<Index>(it - object.edges.begin());
 }
 
-json vertex_ref(const Scene& scene, Index v) {
-  const std::size_t o = scene.object_of_vertex(v);
-  return {{"object", scene.objects()[o].name}, {"vertex", v - scene.vertex_offset(o)}};
-}
-
-json face_ref(const Scene& scene, Index f) {
-  const std::size_t o = scene.object_of_triangle(f);
-  return {{"object", scene.objects()[o].name}, {"face", f - scene.triangle_offset(o)}};
-}
-
-json edge_ref(const Scene& scene, Index e) {
-  const std::size_t o = scene.object_of_edge(e);
-  const Edge& edge = scene.edges()[e];
-  const Index base = scene.vertex_offset(o);
-  return {{"object", scene.objects()[o].name}, {"edge", {edge[0] - base, edge[1] - base}}};
-}
-
-const char* type_name(ContactType type) {
-  switch (type) {
-    case ContactType::kVertexFace: return "vf";
-    case ContactType::kEdgeEdge: return "ee";
-    case ContactType::kTriangleTriangle: return "tt";
-  }
-  return "?";
-}
 
 // An event as JSON: kind, type, frame, a, b, and for collisions the toi
 // interval in frame units.
