@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "libcd/broad_phase/feature_stage.hpp"
 #include "libcd/core/error.hpp"
 #include "libcd/grid/cell_registration.hpp"
 #include "libcd/grid/cell_size.hpp"
@@ -213,15 +214,7 @@ void VirtualSubdivisionGrid::detect_ccd(const std::vector<Vec3>& x_t0, const std
   arena.execute([&] {
     const auto start = Clock::now();
     const std::vector<TrianglePair> pairs = triangle_pairs(x_t0, x_t1);
-    const auto t = Clock::now();
-    FeatureCounts counts;
-    representative_feature_pairs(*scene_, reps_, bounds_, pairs, vf, ee, counts);
-    stats_.vf_before_culling = counts.vf_before;
-    stats_.vf_after_culling = counts.vf_after;
-    stats_.ee_before_culling = counts.ee_before;
-    stats_.ee_after_culling = counts.ee_after;
-    stats_.candidates = vf.size() + ee.size();
-    stats_.seconds_features = seconds_since(t);
+    feature_stage(*scene_, reps_, bounds_, pairs, vf, ee, stats_);
     stats_.seconds_total = seconds_since(start);
   });
 }
