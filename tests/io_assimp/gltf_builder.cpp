@@ -4,6 +4,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
 
 namespace snag::test {
 
@@ -95,8 +98,13 @@ void GltfBuilder::write(const std::string& path) {
   std::ofstream(path) << doc_.dump(1);
 }
 
-std::string scratch_dir(const std::string& test_name) {
-  const std::filesystem::path dir = std::filesystem::path(SNAG_BINARY_DIR) / "test-scratch" / "io_assimp" / test_name;
+std::string scratch_dir(const std::string& name) {
+  // ctest runs each test in its own process, several at once: tests that write
+  // the same file name must not share (and remove) one directory.
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string owner = test ? std::string(test->test_suite_name()) + "." + test->name() : "no-test";
+  const std::filesystem::path dir = std::filesystem::path(SNAG_BINARY_DIR) / "test-scratch" / "io_assimp" /
+                                    owner / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

@@ -38,7 +38,8 @@ class GltfBuilder {
   nlohmann::json doc_;
 };
 
-/// A fresh empty directory under the build tree for one test's files.
-std::string scratch_dir(const std::string& test_name);
+/// A fresh empty directory `name` under the build tree, private to the running
+/// test (its suite and name), so tests run in parallel never share one.
+std::string scratch_dir(const std::string& name);
 
 }  // namespace snag::test
