@@ -82,11 +82,43 @@ struct BernsteinTerm {
   double value, permanent;
 };
 
+/// The bound of |computed - exact| of a coefficient (see the file comment).
+SNAG_HD_INLINE double rounding_bound(const BernsteinTerm& term) {
+  return kBernsteinErrorFactor * term.permanent + kBernsteinUnderflowSlack;
+}
+
 /// The sign of a computed Bernstein coefficient: +1 or -1 when it is certain,
 /// 0 when rounding could flip it.
 SNAG_HD_INLINE int certain_sign(const BernsteinTerm& term) {
-  const double bound = kBernsteinErrorFactor * term.permanent + kBernsteinUnderflowSlack;
+  const double bound = rounding_bound(term);
   return term.value > bound ? 1 : (term.value < -bound ? -1 : 0);
+}
+
+/// The coplanarity cubic's coefficients D000, 3 beta_1, 3 beta_2 and D111
+/// (see the file comment), each with its permanent. The vectors X(t) are given
+/// by their values at t0 and t1: P = (p0, p1), B = (b0, b1), C = (c0, c1).
+struct CoplanarityCubic {
+  BernsteinTerm term[4];
+};
+
+SNAG_HD_INLINE BernsteinTerm end_term(const Vec3& p, const Vec3& b, const Vec3& c) {
+  return {dot(p, cross(b, c)), dot(abs3(p), abs_cross(abs3(b), abs3(c)))};
+}
+
+/// The inner coefficients 3 beta_1 (first = 0) or 3 beta_2 (first = 1).
+SNAG_HD_INLINE BernsteinTerm inner_term(const Vec3 p[2], const Vec3 b[2], const Vec3 c[2], int first) {
+  const int second = 1 - first;
+  // 3 beta_1 = D100 + D010 + D001 and 3 beta_2 = D011 + D101 + D110, summed
+  // in that order.
+  const BernsteinTerm d1 = end_term(p[second], b[first], c[first]);
+  const BernsteinTerm d2 = end_term(p[first], b[second], c[first]);
+  const BernsteinTerm d3 = end_term(p[first], b[first], c[second]);
+  return {d1.value + d2.value + d3.value, d1.permanent + d2.permanent + d3.permanent};
+}
+
+/// The cubic of the differences P, B, C at t0 and t1.
+SNAG_HD_INLINE CoplanarityCubic coplanarity_cubic(const Vec3 p[2], const Vec3 b[2], const Vec3 c[2]) {
+  return {{end_term(p[0], b[0], c[0]), inner_term(p, b, c, 0), inner_term(p, b, c, 1), end_term(p[1], b[1], c[1])}};
 }
 
 }  // namespace ccd_detail
@@ -101,33 +133,19 @@ SNAG_HD_INLINE bool coplanarity_keeps_sign(const Vec3& p_from_t0, const Vec3& p_
                                            const Vec3& b_to_t0, const Vec3& c_from_t0, const Vec3& c_to_t0,
                                            const Vec3& p_from_t1, const Vec3& p_to_t1, const Vec3& b_from_t1,
                                            const Vec3& b_to_t1, const Vec3& c_from_t1, const Vec3& c_to_t1) {
-  using ccd_detail::abs3;
-  using ccd_detail::abs_cross;
-  using ccd_detail::BernsteinTerm;
   using ccd_detail::certain_sign;
-  const Vec3 p0 = p_to_t0 - p_from_t0, p1 = p_to_t1 - p_from_t1;
-  const Vec3 b0 = b_to_t0 - b_from_t0, b1 = b_to_t1 - b_from_t1;
-  const Vec3 c0 = c_to_t0 - c_from_t0, c1 = c_to_t1 - c_from_t1;
-
+  using ccd_detail::end_term;
+  using ccd_detail::inner_term;
+  const Vec3 p[2] = {p_to_t0 - p_from_t0, p_to_t1 - p_from_t1};
+  const Vec3 b[2] = {b_to_t0 - b_from_t0, b_to_t1 - b_from_t1};
+  const Vec3 c[2] = {c_to_t0 - c_from_t0, c_to_t1 - c_from_t1};
   // The end coefficients first: they alone settle most pairs that touch at
   // neither end, and they are the ones that vanish at a contact at t = 0 or 1.
-  const Vec3 b0c0 = cross(b0, c0), b1c1 = cross(b1, c1);
-  const Vec3 p0a = abs3(p0), p1a = abs3(p1), b0a = abs3(b0), b1a = abs3(b1), c0a = abs3(c0), c1a = abs3(c1);
-  const Vec3 b0c0_perm = abs_cross(b0a, c0a), b1c1_perm = abs_cross(b1a, c1a);
-  const int sign_0 = certain_sign(BernsteinTerm{dot(p0, b0c0), dot(p0a, b0c0_perm)});
+  const int sign_0 = certain_sign(end_term(p[0], b[0], c[0]));
   if (sign_0 == 0) return false;
-  const int sign_3 = certain_sign(BernsteinTerm{dot(p1, b1c1), dot(p1a, b1c1_perm)});
-  if (sign_3 != sign_0) return false;
-
-  const Vec3 b1c0 = cross(b1, c0), b0c1 = cross(b0, c1);
-  const Vec3 b1c0_perm = abs_cross(b1a, c0a), b0c1_perm = abs_cross(b0a, c1a);
-  // 3 beta_1 = D100 + D010 + D001 and 3 beta_2 = D110 + D101 + D011.
-  const BernsteinTerm beta_1{dot(p1, b0c0) + dot(p0, b1c0) + dot(p0, b0c1),
-                             dot(p1a, b0c0_perm) + dot(p0a, b1c0_perm) + dot(p0a, b0c1_perm)};
-  if (certain_sign(beta_1) != sign_0) return false;
-  const BernsteinTerm beta_2{dot(p1, b1c0) + dot(p1, b0c1) + dot(p0, b1c1),
-                             dot(p1a, b1c0_perm) + dot(p1a, b0c1_perm) + dot(p0a, b1c1_perm)};
-  return certain_sign(beta_2) == sign_0;
+  if (certain_sign(end_term(p[1], b[1], c[1])) != sign_0) return false;
+  if (certain_sign(inner_term(p, b, c, 0)) != sign_0) return false;
+  return certain_sign(inner_term(p, b, c, 1)) == sign_0;
 }
 
 }  // namespace snag

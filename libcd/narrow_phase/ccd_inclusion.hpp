@@ -95,8 +95,16 @@ struct Box {
 SNAG_HD_INLINE uint64_t start_key(const Box& box) {
   return static_cast<uint64_t>(box.t_num) << (kMaxLevel - box.t_level);
 }
-SNAG_HD_INLINE double lower(uint32_t num, uint8_t level) { return ldexp(static_cast<double>(num), -level); }
-SNAG_HD_INLINE double upper(uint32_t num, uint8_t level) { return ldexp(static_cast<double>(num) + 1.0, -level); }
+/// 2^-level, exactly, for level in [0, kMaxLevel] (ldexp is a library call).
+SNAG_HD_INLINE double inverse_power_of_two(uint8_t level) {
+  return static_cast<double>(1.0f / static_cast<float>(1u << level));
+}
+SNAG_HD_INLINE double lower(uint32_t num, uint8_t level) {
+  return static_cast<double>(num) * inverse_power_of_two(level);
+}
+SNAG_HD_INLINE double upper(uint32_t num, uint8_t level) {
+  return (static_cast<double>(num) + 1.0) * inverse_power_of_two(level);
+}
 
 /// A min-heap of boxes keyed by start time, in a fixed array.
 struct BoxHeap {

@@ -41,6 +41,7 @@
 #include "libcd/narrow_phase/ccd_result.hpp"
 #include "libcd/narrow_phase/ccd_separating_direction.hpp"
 #include "libcd/narrow_phase/ccd_swept_aabb.hpp"
+#include "libcd/narrow_phase/ccd_time_search.hpp"
 #include "libcd/narrow_phase/interval.hpp"
 
 namespace snag {
@@ -77,12 +78,12 @@ struct EdgeEdgeContact {
     return dot(eb0 - ea0, cross(ea1 - ea0, eb1 - eb0));
   }
 
-  SNAG_HD_INLINE bool certify_crossing(double ta, double tb) const {
-    const Interval g_a = coplanarity(point_interval(ta));
-    const Interval g_b = coplanarity(point_interval(tb));
-    const bool sign_change = (certainly_positive(g_a) && certainly_negative(g_b)) ||
-                             (certainly_negative(g_a) && certainly_positive(g_b));
-    if (!sign_change) return false;
+  /// +1 when, at every t in [ta, tb] at which the four ends are coplanar,
+  /// the lines' common point provably lies strictly inside both edges, -1
+  /// when it provably lies outside one of them at every such t, else 0: the
+  /// signs of U, |n|^2 - U, V and |n|^2 - V (one strictly negative makes
+  /// n != 0 too).
+  SNAG_HD_INLINE int inside_over(double ta, double tb) const {
     const Interval time{ta, tb};
     const IntervalVec3 ea0 = position_over(points[0], points[4], time);
     const IntervalVec3 ea1 = position_over(points[1], points[5], time);
@@ -93,8 +94,13 @@ struct EdgeEdgeContact {
     const Interval n2 = dot(n, n);
     const Interval along_a = dot(cross(w, db), n);
     const Interval along_b = dot(cross(w, da), n);
-    return certainly_positive(along_a) && certainly_positive(n2 - along_a) && certainly_positive(along_b) &&
-           certainly_positive(n2 - along_b);
+    const Interval conditions[4] = {along_a, n2 - along_a, along_b, n2 - along_b};
+    return all_positive(conditions, 4);
+  }
+
+  SNAG_HD_INLINE bool certify_crossing(double ta, double tb) const {
+    return opposite_signs(coplanarity(point_interval(ta)), coplanarity(point_interval(tb))) &&
+           inside_over(ta, tb) > 0;
   }
 };
 
@@ -119,6 +125,14 @@ SNAG_HD_INLINE CcdResult edge_edge_ccd(const Vec3& ea0_t0, const Vec3& ea1_t0, c
                                                          eb0_t1, ea0_t1, ea1_t1, eb0_t1, eb1_t1)) ||
       edge_edge_separated(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings.thickness)) {
     return ccd_detail::make_result(CcdAnswer::kNo, 1, 1);
+  }
+  if (settings.thickness == 0) {
+    const Vec3 p[2] = {eb0_t0 - ea0_t0, eb0_t1 - ea0_t1}, b[2] = {ea1_t0 - ea0_t0, ea1_t1 - ea0_t1},
+               c[2] = {eb1_t0 - eb0_t0, eb1_t1 - eb0_t1};
+    CcdResult result;
+    if (ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, &result)) {
+      return result;
+    }
   }
   return ccd_detail::inclusion_ccd(contact, settings);
 }

@@ -2,8 +2,8 @@
 // device code.
 //
 // Each bound is computed with one correctly rounded IEEE-754 operation (round
-// to nearest) and then stepped one unit in the last place outward with
-// nextafter. A correctly rounded result lies within half a unit of the exact
+// to nearest) and then stepped one unit in the last place outward (next_up,
+// next_down: nextafter by bit pattern). A correctly rounded result lies within half a unit of the exact
 // value, so the stepped bound is on the safe side of it (at a power of two the
 // unit below is half the unit above, and one step down is still a whole unit
 // of the lower binade). The enclosure therefore holds for every operation,
@@ -11,23 +11,61 @@
 //
 // Assumes round-to-nearest, no flush-to-zero, and double evaluated as double
 // (x86-64 SSE2, CUDA); a fused multiply-add is harmless because each bound is a
-// separate expression followed by nextafter.
+// separate expression followed by a step outward.
 #pragma once
 
-#include <cfloat>
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "libcd/core/host_device.hpp"
 #include "libcd/geometry/vec3.hpp"
 
 namespace snag {
 
+namespace interval_detail {
+
+SNAG_HD_INLINE int64_t bits_of(double x) {
+#ifdef __CUDA_ARCH__
+  return __double_as_longlong(x);
+#else
+  int64_t bits;
+  memcpy(&bits, &x, sizeof bits);
+  return bits;
+#endif
+}
+
+SNAG_HD_INLINE double double_of(int64_t bits) {
+#ifdef __CUDA_ARCH__
+  return __longlong_as_double(bits);
+#else
+  double x;
+  memcpy(&x, &bits, sizeof x);
+  return x;
+#endif
+}
+
+}  // namespace interval_detail
+
+/// The next double above x: nextafter(x, +inf) for finite x, by stepping the
+/// bit pattern (a library call costs more than the interval operation it
+/// rounds). +inf and NaN are returned as they are; -0 and +0 step to the
+/// smallest positive subnormal.
+SNAG_HD_INLINE double next_up(double x) {
+  if (!(x < INFINITY)) return x;  // +inf or NaN
+  if (x == 0) return interval_detail::double_of(1);
+  const int64_t bits = interval_detail::bits_of(x);
+  return interval_detail::double_of(x > 0 ? bits + 1 : bits - 1);
+}
+/// The next double below x (see next_up).
+SNAG_HD_INLINE double next_down(double x) { return -next_up(-x); }
+
 /// The largest double not above the exact value that x approximates to
 /// within half a unit in the last place.
-SNAG_HD_INLINE double round_down(double x) { return ::nextafter(x, -DBL_MAX); }
+SNAG_HD_INLINE double round_down(double x) { return next_down(x); }
 /// The smallest double not below the exact value that x approximates to
 /// within half a unit in the last place.
-SNAG_HD_INLINE double round_up(double x) { return ::nextafter(x, DBL_MAX); }
+SNAG_HD_INLINE double round_up(double x) { return next_up(x); }
 
 /// The closed interval [lo, hi]; lo <= hi.
 struct Interval {
@@ -53,6 +91,22 @@ SNAG_HD_INLINE Interval operator*(Interval a, Interval b) {
 SNAG_HD_INLINE bool certainly_positive(Interval a) { return a.lo > 0; }
 /// True when every value of the interval is strictly negative.
 SNAG_HD_INLINE bool certainly_negative(Interval a) { return a.hi < 0; }
+
+/// Of conditions "value > 0": -1 when some one is certainly false (its
+/// interval is strictly negative), +1 when every one is certainly true, else 0.
+SNAG_HD_INLINE int all_positive(const Interval* values, int count) {
+  bool all = true;
+  for (int i = 0; i < count; ++i) {
+    if (certainly_negative(values[i])) return -1;
+    all = all && certainly_positive(values[i]);
+  }
+  return all ? 1 : 0;
+}
+
+/// True when a and b have strictly opposite signs.
+SNAG_HD_INLINE bool opposite_signs(Interval a, Interval b) {
+  return (certainly_positive(a) && certainly_negative(b)) || (certainly_negative(a) && certainly_positive(b));
+}
 
 /// A 3-vector of intervals (an axis-aligned box).
 struct IntervalVec3 {

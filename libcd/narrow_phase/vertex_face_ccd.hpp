@@ -40,6 +40,7 @@
 #include "libcd/narrow_phase/ccd_result.hpp"
 #include "libcd/narrow_phase/ccd_separating_direction.hpp"
 #include "libcd/narrow_phase/ccd_swept_aabb.hpp"
+#include "libcd/narrow_phase/ccd_time_search.hpp"
 #include "libcd/narrow_phase/interval.hpp"
 
 namespace snag {
@@ -77,20 +78,27 @@ struct VertexFaceContact {
     return dot(p - a, cross(b - a, c - a));
   }
 
-  SNAG_HD_INLINE bool certify_crossing(double ta, double tb) const {
-    const Interval g_a = coplanarity(point_interval(ta));
-    const Interval g_b = coplanarity(point_interval(tb));
-    const bool sign_change = (certainly_positive(g_a) && certainly_negative(g_b)) ||
-                             (certainly_negative(g_a) && certainly_positive(g_b));
-    if (!sign_change) return false;
+  /// +1 when the vertex provably lies strictly inside the triangle at every
+  /// t in [ta, tb] at which it is on the triangle's plane, -1 when it
+  /// provably lies outside at every such t, else 0: the signs of the edge
+  /// functions ((b - a) x (p - a)) . n, ((c - b) x (p - b)) . n and
+  /// ((a - c) x (p - c)) . n, n = (b - a) x (c - a) (one strictly negative
+  /// makes n != 0 too).
+  SNAG_HD_INLINE int inside_over(double ta, double tb) const {
     const Interval time{ta, tb};
     const IntervalVec3 p = position_over(points[0], points[4], time);
     const IntervalVec3 a = position_over(points[1], points[5], time);
     const IntervalVec3 b = position_over(points[2], points[6], time);
     const IntervalVec3 c = position_over(points[3], points[7], time);
     const IntervalVec3 n = cross(b - a, c - a);
-    return certainly_positive(dot(cross(b - a, p - a), n)) && certainly_positive(dot(cross(c - b, p - b), n)) &&
-           certainly_positive(dot(cross(a - c, p - c), n));
+    const Interval edge_functions[3] = {dot(cross(b - a, p - a), n), dot(cross(c - b, p - b), n),
+                                        dot(cross(a - c, p - c), n)};
+    return all_positive(edge_functions, 3);
+  }
+
+  SNAG_HD_INLINE bool certify_crossing(double ta, double tb) const {
+    return opposite_signs(coplanarity(point_interval(ta)), coplanarity(point_interval(tb))) &&
+           inside_over(ta, tb) > 0;
   }
 };
 
@@ -115,6 +123,13 @@ SNAG_HD_INLINE CcdResult vertex_face_ccd(const Vec3& p_t0, const Vec3& a_t0, con
        coplanarity_keeps_sign(a_t0, p_t0, a_t0, b_t0, a_t0, c_t0, a_t1, p_t1, a_t1, b_t1, a_t1, c_t1)) ||
       vertex_face_separated(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings.thickness)) {
     return ccd_detail::make_result(CcdAnswer::kNo, 1, 1);
+  }
+  if (settings.thickness == 0) {
+    const Vec3 p[2] = {p_t0 - a_t0, p_t1 - a_t1}, b[2] = {b_t0 - a_t0, b_t1 - a_t1}, c[2] = {c_t0 - a_t0, c_t1 - a_t1};
+    CcdResult result;
+    if (ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, &result)) {
+      return result;
+    }
   }
   return ccd_detail::inclusion_ccd(contact, settings);
 }

@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace snag {
 namespace {
@@ -48,6 +50,24 @@ TEST(Interval, StepsOutwardAcrossPowersOfTwoAndSubnormals) {
   const Interval underflow = point_interval(1e-200) * point_interval(1e-200);  // rounds to zero
   EXPECT_LT(underflow.lo, 0.0);
   EXPECT_GT(underflow.hi, 0.0);
+}
+
+TEST(Interval, NextUpAndDownAreNextafterForEveryFiniteDouble) {
+  std::vector<double> values = {0.0, -0.0, 1.0, -1.0, 0.5, 2.0, DBL_MIN, -DBL_MIN, DBL_TRUE_MIN, -DBL_TRUE_MIN,
+                                DBL_MAX, -DBL_MAX, std::nextafter(DBL_MIN, 0.0), 1e-310, -1e-310};
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> exponent(-1074, 1023);
+  std::uniform_real_distribution<double> mantissa(-2.0, 2.0);
+  for (int i = 0; i < 100000; ++i) values.push_back(std::ldexp(mantissa(rng), exponent(rng)));
+  for (const double x : values) {
+    if (x != DBL_MAX) EXPECT_EQ(next_up(x), std::nextafter(x, INFINITY)) << x;
+    if (x != -DBL_MAX) EXPECT_EQ(next_down(x), std::nextafter(x, -INFINITY)) << x;
+  }
+  EXPECT_EQ(next_up(DBL_MAX), INFINITY);
+  EXPECT_EQ(next_down(-DBL_MAX), -INFINITY);
+  EXPECT_EQ(next_up(INFINITY), INFINITY);
+  EXPECT_EQ(next_down(-INFINITY), -INFINITY);
+  EXPECT_TRUE(std::isnan(next_up(NAN)));
 }
 
 TEST(Interval, PositionEnclosesTheMovingPointOverTheTimeInterval) {

@@ -1,0 +1,135 @@
+// The CCD search over time alone at thickness 0, usable from host and device
+// code: a fast path tried before the (t, u, v) search of ccd_inclusion.hpp.
+//
+// At thickness 0 a contact at time t needs the four points in one plane,
+// g(t) = 0, with g the coplanarity cubic of ccd_coplanarity_filter.hpp; and
+// at such a time the kernel's inside conditions (vertex-face: the three edge
+// functions; edge-edge: the parameters of the lines' common point, see the
+// kernels) decide whether the features touch. So the search needs only t:
+//  - an interval of t is excluded when the Bernstein coefficients of g on it
+//    all have one strict sign (g has no zero there), or when some inside
+//    condition is strictly violated over it (at a zero of g the features are
+//    apart);
+//  - it is a contact once it is at most the time tolerance wide, g has
+//    strictly opposite signs at its ends and every inside condition holds
+//    strictly over it (the kernel's certify_crossing);
+//  - otherwise it is halved.
+// Intervals are visited depth first, earlier half first, so when a contact is
+// proven on [ta, tb] every time before ta has been excluded: the earliest
+// contact lies in [ta, tb]. When the crossing's sign cannot be resolved at
+// the ends of [ta, tb], the kernel tries [ta - w, tb + w] (w = tb - ta) and
+// the earliest contact then lies in [ta, tb + w].
+//
+// The Bernstein coefficients of 3 g on [0, 1] are 3 D000, 3 beta_1, 3 beta_2
+// and 3 D111, enclosed from their computed values and rounding bounds; the
+// halves' coefficients come from de Casteljau's midpoint subdivision
+// (Farouki, "The Bernstein polynomial basis: a centennial retrospective",
+// CAGD 29(6), 2012) in outward-rounded interval arithmetic (interval.hpp),
+// so every enclosure holds for the exact cubic. g(ta) and g(tb) are the end
+// coefficients.
+//
+// The search gives up, and the caller falls back to the full search, when an
+// interval at the tolerance can be neither excluded nor proven (a contact at
+// t = 0, a grazing or tangential touch, points coplanar over the whole step)
+// or after kMaxTimeIntervals intervals.
+#pragma once
+
+#include <stdint.h>
+
+#include "libcd/core/host_device.hpp"
+#include "libcd/narrow_phase/ccd_coplanarity_filter.hpp"
+#include "libcd/narrow_phase/ccd_inclusion.hpp"
+#include "libcd/narrow_phase/ccd_result.hpp"
+#include "libcd/narrow_phase/interval.hpp"
+
+namespace snag {
+namespace ccd_detail {
+
+/// Deepest halving of the time interval (widths of 2^-31).
+constexpr int kMaxTimeLevel = 31;
+/// Intervals examined before the time search gives up.
+constexpr int kMaxTimeIntervals = 256;
+
+/// Enclosures of the Bernstein coefficients of 3 g on one time interval.
+struct TimeInterval {
+  uint32_t num;
+  uint8_t level;
+  Interval b[4];
+};
+
+/// Encloses the exact coefficient a computed term approximates, times `scale`.
+SNAG_HD_INLINE Interval enclose(const BernsteinTerm& term, double scale) {
+  const double bound = round_up(rounding_bound(term));
+  const Interval exact{round_down(term.value - bound), round_up(term.value + bound)};
+  return point_interval(scale) * exact;
+}
+
+SNAG_HD_INLINE Interval midpoint(Interval a, Interval b) { return (a + b) * point_interval(0.5); }
+
+/// True when every coefficient is strictly positive or every one strictly
+/// negative: g has no zero on the interval.
+SNAG_HD_INLINE bool keeps_sign(const Interval b[4]) {
+  bool positive = true, negative = true;
+  for (int m = 0; m < 4; ++m) {
+    positive = positive && certainly_positive(b[m]);
+    negative = negative && certainly_negative(b[m]);
+  }
+  return positive || negative;
+}
+
+/// The search. Contact provides `inside_over(ta, tb)` (+1: every inside
+/// condition holds strictly over [ta, tb]; -1: one is strictly violated;
+/// 0: undecided) and `certify_crossing(ta, tb)`. Returns false when it gives
+/// up; else *result is kNo or kYes with the enclosure of the earliest contact.
+template <class Contact>
+SNAG_HD bool time_search(const Contact& contact, const CoplanarityCubic& cubic, double time_tolerance,
+                         CcdResult* result) {
+  TimeInterval stack[kMaxTimeLevel + 1];
+  int pending = 0;
+  TimeInterval node{0, 0, {enclose(cubic.term[0], 3), enclose(cubic.term[1], 1), enclose(cubic.term[2], 1),
+                           enclose(cubic.term[3], 3)}};
+  for (int examined = 1;; ++examined) {
+    if (examined > kMaxTimeIntervals) return false;
+    bool excluded = keeps_sign(node.b);
+    if (!excluded) {
+      const double ta = lower(node.num, node.level), tb = upper(node.num, node.level);
+      const int inside = contact.inside_over(ta, tb);
+      excluded = inside < 0;
+      if (!excluded) {
+        const double width = tb - ta;
+        if (width <= time_tolerance || node.level >= kMaxTimeLevel) {
+          const bool sign_change = (certainly_positive(node.b[0]) && certainly_negative(node.b[3])) ||
+                                   (certainly_negative(node.b[0]) && certainly_positive(node.b[3]));
+          if (inside > 0 && sign_change) {
+            *result = make_result(CcdAnswer::kYes, ta, tb);
+            return true;
+          }
+          const double wide_a = ta - width > 0 ? ta - width : 0;
+          const double wide_b = tb + width < 1 ? tb + width : 1;
+          if (contact.certify_crossing(wide_a, wide_b)) {
+            *result = make_result(CcdAnswer::kYes, ta, wide_b);
+            return true;
+          }
+          return false;
+        }
+        // De Casteljau at the midpoint: the earlier half goes on now.
+        const Interval* b = node.b;
+        const Interval m01 = midpoint(b[0], b[1]), m12 = midpoint(b[1], b[2]), m23 = midpoint(b[2], b[3]);
+        const Interval m012 = midpoint(m01, m12), m123 = midpoint(m12, m23);
+        const Interval middle = midpoint(m012, m123);
+        const uint8_t level = static_cast<uint8_t>(node.level + 1);
+        stack[pending++] = TimeInterval{2 * node.num + 1, level, {middle, m123, m23, b[3]}};
+        node = TimeInterval{2 * node.num, level, {b[0], m01, m012, middle}};
+        continue;
+      }
+    }
+    if (pending == 0) {
+      *result = make_result(CcdAnswer::kNo, 1, 1);
+      return true;
+    }
+    node = stack[--pending];
+  }
+}
+
+}  // namespace ccd_detail
+}  // namespace snag
