@@ -93,11 +93,12 @@ class CpuBackend final : public Backend {
         stats_.narrow.predicate_exact += local.exact;
       }
       stats_.narrow.triangle_tests = pairs_.size();
+      std::vector<std::uint32_t> hits;
       for (std::size_t i = 0; i < pairs_.size(); ++i) {
-        if (!hit[i]) continue;
-        events.push_back(intersection_event(*scene_, x, pairs_[i]));
-        ++stats_.narrow.triangles_intersecting;
+        if (hit[i]) hits.push_back(static_cast<std::uint32_t>(i));
       }
+      append_intersection_events(*scene_, x, pairs_, hits, events);
+      stats_.narrow.triangles_intersecting += hits.size();
       stats_.narrow.seconds_static = seconds_since(start);
     });
   }

@@ -196,10 +196,8 @@ class CudaBackend final : public Backend {
     stats_.narrow.predicate_calls = counts.predicate_calls;
     stats_.narrow.predicate_exact = counts.predicate_exact;
     stats_.narrow.triangle_tests = pairs_.size();
-    for (const std::uint32_t i : hits) {
-      events.push_back(intersection_event(*scene_, x, pairs_[i]));
-      ++stats_.narrow.triangles_intersecting;
-    }
+    arena_->execute([&] { append_intersection_events(*scene_, x, pairs_, hits, events); });
+    stats_.narrow.triangles_intersecting += hits.size();
     stats_.narrow.seconds_static = seconds_since(start);
   }
 

@@ -26,37 +26,121 @@ unsigned int blocks_for(std::size_t count) {
   return static_cast<unsigned int>((count + kBlockSize - 1) / kBlockSize);
 }
 
-// The CCD kernels: thread i tests candidate subset[i] (or i when subset is
-// null) and writes its result and whether it is unresolved (not kNo) at i.
-__global__ void vertex_face_kernel(const Vec3* __restrict__ x_t0, const Vec3* __restrict__ x_t1,
-                                   const Index* __restrict__ corners,
-                                   const VertexFaceCandidate* __restrict__ candidates,
-                                   const std::uint32_t* __restrict__ subset, std::size_t count, CcdSettings settings,
-                                   CcdResult* __restrict__ results, unsigned char* __restrict__ unresolved) {
+// What the screen pass leaves for the search pass.
+constexpr unsigned char kScreenedNo = 0, kScreenedHit = 1, kUndecided = 2;
+
+// A vertex-face query: candidate i's eight points and the two CCD functions.
+struct VertexFaceQuery {
+  const Vec3* __restrict__ x_t0;
+  const Vec3* __restrict__ x_t1;
+  const Index* __restrict__ corners;
+  const VertexFaceCandidate* __restrict__ candidates;
+
+  __device__ void points(std::uint32_t i, Vec3 x[8]) const {
+    const VertexFaceCandidate c = candidates[i];
+    const Index ids[4] = {c.vertex, corners[3 * std::size_t{c.face}], corners[3 * std::size_t{c.face} + 1],
+                          corners[3 * std::size_t{c.face} + 2]};
+    for (int k = 0; k < 4; ++k) {
+      x[k] = x_t0[ids[k]];
+      x[4 + k] = x_t1[ids[k]];
+    }
+  }
+  __device__ bool early_exit(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
+    Vec3 x[8];
+    points(i, x);
+    return vertex_face_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
+  }
+  __device__ bool quick(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
+    Vec3 x[8];
+    points(i, x);
+    return vertex_face_quick_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
+  }
+  __device__ CcdResult full(std::uint32_t i, const CcdSettings& settings) const {
+    Vec3 x[8];
+    points(i, x);
+    return vertex_face_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings);
+  }
+};
+
+// An edge-edge query.
+struct EdgeEdgeQuery {
+  const Vec3* __restrict__ x_t0;
+  const Vec3* __restrict__ x_t1;
+  const Index* __restrict__ ends;
+  const EdgeEdgeCandidate* __restrict__ candidates;
+
+  __device__ void points(std::uint32_t i, Vec3 x[8]) const {
+    const EdgeEdgeCandidate c = candidates[i];
+    const Index ids[4] = {ends[2 * std::size_t{c.edge_a}], ends[2 * std::size_t{c.edge_a} + 1],
+                          ends[2 * std::size_t{c.edge_b}], ends[2 * std::size_t{c.edge_b} + 1]};
+    for (int k = 0; k < 4; ++k) {
+      x[k] = x_t0[ids[k]];
+      x[4 + k] = x_t1[ids[k]];
+    }
+  }
+  __device__ bool early_exit(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
+    Vec3 x[8];
+    points(i, x);
+    return edge_edge_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
+  }
+  __device__ bool quick(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
+    Vec3 x[8];
+    points(i, x);
+    return edge_edge_quick_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
+  }
+  __device__ CcdResult full(std::uint32_t i, const CcdSettings& settings) const {
+    Vec3 x[8];
+    points(i, x);
+    return edge_edge_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings);
+  }
+};
+
+// The screen, step 1: thread i runs the early exits on candidate i and
+// writes its result and kScreenedNo, kScreenedHit or kUndecided.
+template <class Query>
+__global__ void __launch_bounds__(kBlockSize, 4)
+    ccd_early_exit_kernel(Query query, std::size_t count, CcdSettings settings, CcdResult* __restrict__ results,
+                          unsigned char* __restrict__ flags) {
   const std::size_t i = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
   if (i >= count) return;
-  const VertexFaceCandidate c = candidates[subset != nullptr ? subset[i] : i];
-  const Index f0 = corners[3 * std::size_t{c.face}], f1 = corners[3 * std::size_t{c.face} + 1],
-              f2 = corners[3 * std::size_t{c.face} + 2];
-  const CcdResult result = vertex_face_ccd(x_t0[c.vertex], x_t0[f0], x_t0[f1], x_t0[f2], x_t1[c.vertex], x_t1[f0],
-                                           x_t1[f1], x_t1[f2], settings);
+  CcdResult result;
+  const bool decided = query.early_exit(static_cast<std::uint32_t>(i), settings, &result);
   results[i] = result;
-  unresolved[i] = result.answer != CcdAnswer::kNo ? 1 : 0;
+  flags[i] = !decided ? kUndecided : (result.answer != CcdAnswer::kNo ? kScreenedHit : kScreenedNo);
 }
 
-__global__ void edge_edge_kernel(const Vec3* __restrict__ x_t0, const Vec3* __restrict__ x_t1,
-                                 const Index* __restrict__ ends, const EdgeEdgeCandidate* __restrict__ candidates,
-                                 const std::uint32_t* __restrict__ subset, std::size_t count, CcdSettings settings,
-                                 CcdResult* __restrict__ results, unsigned char* __restrict__ unresolved) {
-  const std::size_t i = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
-  if (i >= count) return;
-  const EdgeEdgeCandidate c = candidates[subset != nullptr ? subset[i] : i];
-  const Index ea0 = ends[2 * std::size_t{c.edge_a}], ea1 = ends[2 * std::size_t{c.edge_a} + 1];
-  const Index eb0 = ends[2 * std::size_t{c.edge_b}], eb1 = ends[2 * std::size_t{c.edge_b} + 1];
-  const CcdResult result = edge_edge_ccd(x_t0[ea0], x_t0[ea1], x_t0[eb0], x_t0[eb1], x_t1[ea0], x_t1[ea1],
-                                         x_t1[eb0], x_t1[eb1], settings);
+// The screen, step 2: thread k takes candidate subset[k] and, when step 1
+// left it undecided, runs the quick part (the time search) on it, updating
+// its result and flag in place.
+template <class Query>
+__global__ void __launch_bounds__(kBlockSize, 4)
+    ccd_quick_kernel(Query query, const std::uint32_t* __restrict__ subset, std::size_t count, CcdSettings settings,
+                     CcdResult* __restrict__ results, unsigned char* __restrict__ flags) {
+  const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  const std::uint32_t i = subset[k];
+  if (flags[i] != kUndecided) return;
+  CcdResult result;
+  const bool decided = query.quick(i, settings, &result);
   results[i] = result;
-  unresolved[i] = result.answer != CcdAnswer::kNo ? 1 : 0;
+  flags[i] = !decided ? kUndecided : (result.answer != CcdAnswer::kNo ? kScreenedHit : kScreenedNo);
+}
+
+// The whole test: thread k tests candidate subset[k] (k when subset is null)
+// and writes its result at k and whether it is a hit (not kNo). With
+// screen_flags, a candidate the screen decided keeps the screen's result.
+template <class Query>
+__global__ void ccd_full_kernel(Query query, const std::uint32_t* __restrict__ subset, std::size_t count,
+                                const unsigned char* __restrict__ screen_flags,
+                                const CcdResult* __restrict__ screen_results, CcdSettings settings,
+                                CcdResult* __restrict__ results, unsigned char* __restrict__ hit) {
+  const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  const std::uint32_t i = subset != nullptr ? subset[k] : static_cast<std::uint32_t>(k);
+  const CcdResult result = screen_flags != nullptr && screen_flags[i] != kUndecided ? screen_results[i]
+                                                                                    : query.full(i, settings);
+  results[k] = result;
+  hit[k] = result.answer != CcdAnswer::kNo ? 1 : 0;
 }
 
 // The static test: thread i tests pair i; the predicate counters are summed
@@ -111,7 +195,6 @@ CudaNarrowPhase::CudaNarrowPhase(cudaStream_t stream)
       flags_(0, stream),
       searched_flags_(0, stream),
       selected_(0, stream),
-      searched_selected_(0, stream),
       selected_results_(0, stream),
       selected_count_(1, stream),
       counters_(2, stream),
@@ -128,22 +211,35 @@ std::size_t CudaNarrowPhase::select_flagged(std::size_t count) {
   return static_cast<std::size_t>(selected);
 }
 
-template <class Launch>
-void CudaNarrowPhase::run_ccd(std::size_t count, const CcdSettings& settings, CcdPasses passes, Launch launch,
+template <class Query>
+void CudaNarrowPhase::run_ccd(const Query& query, std::size_t count, const CcdSettings& settings, CcdPasses passes,
                               std::vector<CcdHit>& hits) {
   if (count == 0) return;
   if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 candidates per call", 0);
-  const bool screen = passes == CcdPasses::kScreenThenSearch && settings.max_iterations > kScreenIterations;
-  CcdSettings first_pass = settings;
-  if (screen) first_pass.max_iterations = kScreenIterations;
-
+  const bool screen = passes == CcdPasses::kScreenThenSearch;
   CudaEvent start, screened, compacted, searched;
   resize_or_throw(results_, count, "CCD results");
   resize_or_throw(flags_, count, "CCD flags");
   start.record(stream_);
-  launch(nullptr, count, first_pass, results_.data(), flags_.data());
+  if (screen) {
+    ccd_early_exit_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(query, count, settings, results_.data(),
+                                                                         flags_.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+    // The time search runs on the compacted survivors of the early exits, in
+    // full warps.
+    const std::size_t survivors = select_flagged(count);
+    if (survivors > 0) {
+      ccd_quick_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(query, selected_.data(), survivors,
+                                                                          settings, results_.data(), flags_.data());
+    }
+  } else {
+    ccd_full_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(query, nullptr, count, nullptr, nullptr, settings,
+                                                                   results_.data(), flags_.data());
+  }
   SNAG_CUDA_CHECK_LAUNCH();
   screened.record(stream_);
+  // The screen's hits and the candidates it left undecided, or the single
+  // pass's hits.
   const std::size_t survivors = select_flagged(count);
   compacted.record(stream_);
 
@@ -153,7 +249,9 @@ void CudaNarrowPhase::run_ccd(std::size_t count, const CcdSettings& settings, Cc
     if (screen) {
       resize_or_throw(searched_results_, survivors, "CCD search results");
       resize_or_throw(searched_flags_, survivors, "CCD search flags");
-      launch(selected_.data(), survivors, settings, searched_results_.data(), searched_flags_.data());
+      ccd_full_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(
+          query, selected_.data(), survivors, flags_.data(), results_.data(), settings, searched_results_.data(),
+          searched_flags_.data());
       SNAG_CUDA_CHECK_LAUNCH();
       searched.record(stream_);
       searched_results_.download(results.data(), survivors);
@@ -188,25 +286,14 @@ void CudaNarrowPhase::run_ccd(std::size_t count, const CcdSettings& settings, Cc
 void CudaNarrowPhase::vertex_face(const Vec3* x_t0, const Vec3* x_t1, const Triangle* triangles,
                                   const VertexFaceCandidate* candidates, std::size_t count,
                                   const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits) {
-  const Index* corners = reinterpret_cast<const Index*>(triangles);
-  auto launch = [&](const std::uint32_t* subset, std::size_t n, const CcdSettings& s, CcdResult* results,
-                    unsigned char* unresolved) {
-    vertex_face_kernel<<<blocks_for(n), kBlockSize, 0, stream_>>>(x_t0, x_t1, corners, candidates, subset, n, s,
-                                                                   results, unresolved);
-  };
-  run_ccd(count, settings, passes, launch, hits);
+  run_ccd(VertexFaceQuery{x_t0, x_t1, reinterpret_cast<const Index*>(triangles), candidates}, count, settings, passes,
+          hits);
 }
 
 void CudaNarrowPhase::edge_edge(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges,
                                 const EdgeEdgeCandidate* candidates, std::size_t count, const CcdSettings& settings,
                                 CcdPasses passes, std::vector<CcdHit>& hits) {
-  const Index* ends = reinterpret_cast<const Index*>(edges);
-  auto launch = [&](const std::uint32_t* subset, std::size_t n, const CcdSettings& s, CcdResult* results,
-                    unsigned char* unresolved) {
-    edge_edge_kernel<<<blocks_for(n), kBlockSize, 0, stream_>>>(x_t0, x_t1, ends, candidates, subset, n, s, results,
-                                                                 unresolved);
-  };
-  run_ccd(count, settings, passes, launch, hits);
+  run_ccd(EdgeEdgeQuery{x_t0, x_t1, reinterpret_cast<const Index*>(edges), candidates}, count, settings, passes, hits);
 }
 
 void CudaNarrowPhase::triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,

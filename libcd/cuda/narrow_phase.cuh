@@ -4,22 +4,29 @@
 // hits are compacted with cub::DeviceSelect::Flagged, which keeps the input
 // order, so the hits come back in candidate order exactly as on the CPU.
 //
-// CCD runs in two passes by default (CcdPasses::kScreenThenSearch):
-//  1. screen: every candidate runs the CCD function with a small iteration
-//     limit. The search is deterministic and a kNo is only returned once the
-//     box heap is empty, so a kNo within the limit is the unlimited answer;
-//  2. search: the few candidates the screen did not rule out are compacted
-//     and run again with the caller's settings, so the long inclusion
-//     searches run side by side in full warps instead of stalling warps of
-//     candidates that finished at once.
-// Both passes call the same function: the answers equal the one-pass ones.
+// CCD runs as a screen and a search by default (CcdPasses::kScreenThenSearch):
+//  1. screen: every candidate runs the early exits of the CCD function
+//     (vertex_face_early_exit, edge_edge_early_exit), which rule out most
+//     candidates of a real scene; the survivors are compacted and run the
+//     rest of its quick part (vertex_face_quick_ccd, edge_edge_quick_ccd: at
+//     thickness 0 the search over time), side by side in full warps. These
+//     kernels hold no box heap: at most 128 registers and a 3 kB stack frame;
+//  2. search: the candidates the screen found to be hits and those it left
+//     undecided are compacted; the undecided ones run the whole function
+//     (to the (t, u, v) search), the others keep the screen's result.
+// The whole function is the early exits, then the time search, then the
+// (t, u, v) search, so the answers equal the single pass's
+// (CcdPasses::kSinglePass: the whole function over every candidate) and the
+// CPU back end's.
 //
-// Resources (ptxas -v, sm_90, CUDA 13.0, --fmad=false): the CCD kernels use
-// 255 registers and a 16.8 kB stack frame per thread (the 16 kB box heap of
-// ccd_inclusion.hpp, plus about 1 kB of spills); the static kernel 222
-// registers and a 2.3 kB frame (the exact stages' expansions). The driver
-// reserves local memory for the frame on every resident thread of the
-// device, outside DeviceMemoryTracker's count.
+// Resources (ptxas -v, sm_90, CUDA 13.0, --fmad=false): the whole-function
+// kernels use 255 registers and a 17 kB stack frame (the 16 kB box heap of
+// ccd_inclusion.hpp and about 1 kB of spills); the screen kernels are held to
+// 128 registers (__launch_bounds__, 4 blocks of 128 per multiprocessor) with
+// about 1 kB of spills; the static kernel 222 registers and a 2.3 kB frame
+// (the exact stages' expansions). The driver reserves local memory for the
+// frame on every resident thread of the device, outside
+// DeviceMemoryTracker's count.
 //
 // Device memory: every buffer is a DeviceBuffer (counted by
 // DeviceMemoryTracker); a buffer that cannot grow throws CudaError naming the
@@ -43,7 +50,7 @@ namespace snag {
 
 /// How the CCD kernels are scheduled (see the file comment).
 enum class CcdPasses {
-  kScreenThenSearch,  ///< short screen over all candidates, full search over the compacted rest
+  kScreenThenSearch,  ///< the quick part over all candidates, the whole test over the undecided rest
   kSinglePass,        ///< the full search over all candidates at once
 };
 
@@ -66,7 +73,7 @@ struct TrianglePairCounts {
 
 /// Milliseconds of the last call, measured with CUDA events on its stream.
 struct NarrowPhaseTimings {
-  float screen_ms = 0;   ///< CCD screen pass (or the single pass)
+  float screen_ms = 0;   ///< CCD screen pass: early exits and time search (or the single pass)
   float search_ms = 0;   ///< CCD full search over the screen's survivors
   float compact_ms = 0;  ///< compactions and downloads
   float static_ms = 0;   ///< triangle-pair tests
@@ -77,9 +84,6 @@ struct NarrowPhaseTimings {
 /// Not thread-safe; one stream per object at a time.
 class CudaNarrowPhase {
  public:
-  /// Iterations of the screen pass (the CCD functions' max_iterations).
-  static constexpr int kScreenIterations = 16;
-
   /// Buffers are allocated and used on `stream`.
   explicit CudaNarrowPhase(cudaStream_t stream);
 
@@ -105,15 +109,15 @@ class CudaNarrowPhase {
   void reset_timings() { timings_ = NarrowPhaseTimings{}; }
 
  private:
-  template <class Launch>
-  void run_ccd(std::size_t count, const CcdSettings& settings, CcdPasses passes, Launch launch,
+  template <class Query>
+  void run_ccd(const Query& query, std::size_t count, const CcdSettings& settings, CcdPasses passes,
                std::vector<CcdHit>& hits);
   std::size_t select_flagged(std::size_t count);
 
   cudaStream_t stream_;
   DeviceBuffer<CcdResult> results_, searched_results_;
   DeviceBuffer<unsigned char> flags_, searched_flags_;
-  DeviceBuffer<std::uint32_t> selected_, searched_selected_;
+  DeviceBuffer<std::uint32_t> selected_;
   DeviceBuffer<CcdResult> selected_results_;
   DeviceBuffer<long long> selected_count_;
   DeviceBuffer<unsigned long long> counters_;

@@ -1,7 +1,9 @@
 // Conservative continuous collision detection of a vertex against a triangle,
 // usable from host and device code.
 //
-// Method: three proven early exits, then the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
+// Method: three proven early exits; at thickness 0 the search over time alone
+// of ccd_time_search.hpp, which decides nearly every plain crossing; then, for
+// what is left, the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
 // "A Large Scale Benchmark and an Inclusion-Based Algorithm for Continuous
 // Collision Detection", ACM TOG 2021) on the contact function
 //   F(t, u, v) = p(t) - [(1 - u - v) a(t) + u b(t) + v c(t)],
@@ -104,6 +106,39 @@ struct VertexFaceContact {
 
 }  // namespace ccd_detail
 
+/// The range check and the early exits of vertex_face_ccd: true with *result
+/// set when they decide the query, else false. Never throws.
+SNAG_HD_INLINE bool vertex_face_early_exit(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                                           const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                                           const CcdSettings& settings, CcdResult* result) {
+  const Vec3 points[8] = {p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1};
+  if (!ccd_detail::inputs_in_range(points, settings.thickness)) {
+    *result = ccd_detail::make_result(CcdAnswer::kUncertain, 0, 1);
+    return true;
+  }
+  if (!vertex_face_swept_overlap(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings.thickness) ||
+      (settings.thickness == 0 &&
+       coplanarity_keeps_sign(a_t0, p_t0, a_t0, b_t0, a_t0, c_t0, a_t1, p_t1, a_t1, b_t1, a_t1, c_t1)) ||
+      vertex_face_separated(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings.thickness)) {
+    *result = ccd_detail::make_result(CcdAnswer::kNo, 1, 1);
+    return true;
+  }
+  return false;
+}
+
+/// The early exits and, at thickness 0, the time search: true with *result
+/// set (the answer vertex_face_ccd gives) when they decide the query, false
+/// when only the (t, u, v) search can. Never throws.
+SNAG_HD_INLINE bool vertex_face_quick_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                                          const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                                          const CcdSettings& settings, CcdResult* result) {
+  if (vertex_face_early_exit(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, result)) return true;
+  if (settings.thickness != 0) return false;
+  const ccd_detail::VertexFaceContact contact{{p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1}};
+  const Vec3 p[2] = {p_t0 - a_t0, p_t1 - a_t1}, b[2] = {b_t0 - a_t0, b_t1 - a_t1}, c[2] = {c_t0 - a_t0, c_t1 - a_t1};
+  return ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, result);
+}
+
 /// Continuous collision of vertex p against triangle (a, b, c), every point
 /// moving linearly from its _t0 to its _t1 position over t in [0, 1].
 /// Positions in scene units (|coordinates| <= 1e60, else kUncertain).
@@ -114,23 +149,9 @@ struct VertexFaceContact {
 SNAG_HD_INLINE CcdResult vertex_face_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
                                          const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
                                          const CcdSettings& settings) {
+  CcdResult result;
+  if (vertex_face_quick_ccd(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, &result)) return result;
   const ccd_detail::VertexFaceContact contact{{p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1}};
-  if (!ccd_detail::inputs_in_range(contact.points, settings.thickness)) {
-    return ccd_detail::make_result(CcdAnswer::kUncertain, 0, 1);
-  }
-  if (!vertex_face_swept_overlap(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings.thickness) ||
-      (settings.thickness == 0 &&
-       coplanarity_keeps_sign(a_t0, p_t0, a_t0, b_t0, a_t0, c_t0, a_t1, p_t1, a_t1, b_t1, a_t1, c_t1)) ||
-      vertex_face_separated(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings.thickness)) {
-    return ccd_detail::make_result(CcdAnswer::kNo, 1, 1);
-  }
-  if (settings.thickness == 0) {
-    const Vec3 p[2] = {p_t0 - a_t0, p_t1 - a_t1}, b[2] = {b_t0 - a_t0, b_t1 - a_t1}, c[2] = {c_t0 - a_t0, c_t1 - a_t1};
-    CcdResult result;
-    if (ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, &result)) {
-      return result;
-    }
-  }
   return ccd_detail::inclusion_ccd(contact, settings);
 }
 

@@ -1,5 +1,7 @@
 #include "libcd/pipeline/event_builder.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include "libcd/pipeline/event_position.hpp"
 
 namespace snag {
@@ -63,6 +65,14 @@ Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const T
   e.b = pair.b;
   e.position = triangles_meeting_point(a, b);
   return e;
+}
+
+void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x, const std::vector<TrianglePair>& pairs,
+                                const std::vector<std::uint32_t>& hits, std::vector<Event>& events) {
+  const std::size_t first = events.size();
+  events.resize(first + hits.size());
+  tbb::parallel_for(std::size_t{0}, hits.size(),
+                    [&](std::size_t k) { events[first + k] = intersection_event(scene, x, pairs[hits[k]]); });
 }
 
 }  // namespace snag

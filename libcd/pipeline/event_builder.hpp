@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "libcd/broad_phase/candidates.hpp"
@@ -30,5 +31,10 @@ Event edge_edge_event(const Scene& scene, const std::vector<Vec3>& x_t0, const s
 
 /// An intersection event (frame 0) of an intersecting triangle pair at positions x.
 Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const TrianglePair& pair);
+
+/// Appends the intersection events of pairs[i] for each i in `hits`, in that
+/// order (built in parallel: each computes a point of the overlap).
+void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x, const std::vector<TrianglePair>& pairs,
+                                const std::vector<std::uint32_t>& hits, std::vector<Event>& events);
 
 }  // namespace snag
