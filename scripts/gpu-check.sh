@@ -36,6 +36,10 @@ sanitizer_skip=${SNAG_SANITIZER_SKIP:-*ClothBall*}
 
 export LD_LIBRARY_PATH="$bundle/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 export SNAG_SHARED_DATA_DIR="$bundle/data"
+# The sample caches: the project's samples/ beside the bundle, unless given.
+if [ -z "${SNAG_SAMPLES_DIR:-}" ] && [ -d "$bundle/../samples/cloth_ball" ]; then
+  export SNAG_SAMPLES_DIR="$(cd "$bundle/../samples" && pwd)"
+fi
 
 summary=()
 failed=0

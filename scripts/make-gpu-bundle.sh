@@ -27,7 +27,8 @@
 #                 executables need (an older system).
 #   data/         the reference data the tests read (meshes/cloth_ball9[23].ply,
 #                 ccd-queries/); gpu-check.sh points SNAG_SHARED_DATA_DIR here
-#   samples/      the project's bundled sample caches
+#   (samples/ is not copied: the bundle travels inside the project tree, and
+#   gpu-check.sh reads the sample caches from the project's samples/)
 #   manifest.txt  one "kind name bin/file" line per executable
 #   BUILD_INFO    commit, architectures, compiler, glibc needed
 # The total must stay under the limit (the bundle travels with a size cap); the
@@ -97,7 +98,6 @@ done
 cp "$data/README.md" "$bundle/data/"
 cp "$data"/meshes/cloth_ball9[23].ply "$data/meshes/LICENSE" "$bundle/data/meshes/"
 cp -r "$data/ccd-queries" "$bundle/data/"
-cp -r "$root/samples" "$bundle/samples"
 cp "$root/scripts/gpu-check.sh" "$bundle/gpu-check.sh"
 chmod -R u+w "$bundle"
 
