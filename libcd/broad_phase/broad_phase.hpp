@@ -20,6 +20,11 @@ struct BroadPhaseSettings {
   int max_subdivision_levels = 16;  ///< safety limit on Loop levels per triangle
   int max_time_halvings = 12;       ///< safety limit on time halvings per triangle (CCD)
   unsigned threads = 0;             ///< worker threads; 0 = all cores
+  /// Count duplicate_culled_tests exactly. This keeps the key of every culled
+  /// test until the end of the pair stage (8 bytes each, often most of the
+  /// tests), so it is for benchmarks of the chapter's duplicate-test claim,
+  /// not for production runs.
+  bool count_culled_duplicates = false;
 };
 
 /// Counts and times of one detection. The virtual subdivision chapter's
@@ -47,8 +52,14 @@ struct BroadPhaseStats {
   std::size_t removed_by_extended_control_bits = 0;
   std::size_t fallback_tests = 0;                 ///< phantom-phantom pairs tested (see control_bits.hpp)
   std::size_t tests_after_control_bits = 0;
-  std::size_t duplicate_root_pair_tests = 0;      ///< of tests_after_control_bits, root pairs tested more than once (exact)
   std::size_t culled_by_dop = 0;                  ///< tests culled by the triangles' 18-DOPs
+  /// Of the tests the DOPs kept, those whose root pair another kept test had
+  /// already given (exact; removed by the final sort and unique).
+  std::size_t duplicate_root_pair_tests = 0;
+  /// Of the tests the DOPs culled, those whose root pair another culled test
+  /// had already given: exact with settings.count_culled_duplicates, else 0.
+  /// The duplicates among all tests after the control bits are the sum of the two.
+  std::size_t duplicate_culled_tests = 0;
   std::size_t triangle_pairs = 0;                 ///< unique triangle pairs after DOP culling
   // features
   std::size_t vf_before_culling = 0, vf_after_culling = 0;

@@ -35,7 +35,7 @@ void check_positions(const Scene* scene, const std::vector<Vec3>& x, const char*
 
 /// Counters of one chunk of work items.
 struct PairCounts {
-  std::size_t same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0;
+  std::size_t same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culled = 0;
 };
 
 }  // namespace
@@ -109,6 +109,7 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   constexpr std::uint64_t kChunk = 1 << 16;
   const std::size_t chunks = static_cast<std::size_t>((tests + kChunk - 1) / kChunk);
   std::vector<std::vector<std::uint64_t>> chunk_keys(chunks), chunk_culled(chunks);
+  const bool count_culled = settings_.count_culled_duplicates;
   std::vector<PairCounts> chunk_counts(chunks);
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
     const std::uint64_t begin = chunk * kChunk, end = std::min<std::uint64_t>(tests, begin + kChunk);
@@ -135,8 +136,12 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
           case CellPairVerdict::kTest: {
             ++counts.passed;
             const Index ra = a.triangle.root, rb = b.triangle.root;
-            if (dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb])) keys.push_back(pack_pair(ra, rb));
-            else chunk_culled[chunk].push_back(pack_pair(ra, rb));
+            if (dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb])) {
+              keys.push_back(pack_pair(ra, rb));
+            } else {
+              ++counts.culled;
+              if (count_culled) chunk_culled[chunk].push_back(pack_pair(ra, rb));
+            }
             break;
           }
         }
@@ -165,7 +170,7 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
     stats_.removed_by_extended_control_bits += counts.extended;
     stats_.fallback_tests += counts.fallback;
     stats_.tests_after_control_bits += counts.passed;
-    stats_.culled_by_dop += chunk_culled[k].size();
+    stats_.culled_by_dop += counts.culled;
     key_count += chunk_keys[k].size();
   }
   std::vector<std::uint64_t> keys;
@@ -176,10 +181,10 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   }
 
   // 6. Final sort + unique. Duplicate root-pair tests are counted exactly
-  // among all tests that passed the control bits: those kept by the DOP test
-  // and those it culled (the DOP test depends on the root pair only).
+  // among the tests the DOPs kept and, when asked, among those they culled
+  // (the DOP test depends on the root pair only).
   std::vector<std::uint64_t> culled;
-  culled.reserve(stats_.culled_by_dop);
+  if (count_culled) culled.reserve(stats_.culled_by_dop);
   for (auto& chunk : chunk_culled) {
     culled.insert(culled.end(), chunk.begin(), chunk.end());
     std::vector<std::uint64_t>().swap(chunk);
@@ -191,7 +196,6 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   tbb::parallel_sort(keys.begin(), keys.end());
   const std::size_t kept_tests = keys.size();
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  const std::size_t duplicates = (kept_tests - keys.size()) + (culled_tests - culled_unique);
   stats_.seconds_pairs = seconds_since(t);
   stats_.triangle_pairs = keys.size();
 
@@ -199,7 +203,8 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
                         lists.cell_ids.capacity() * 8 + lists.first.capacity() * 8 + first_test.capacity() * 8 +
                         (kept_tests + culled_tests) * 8 +
                         (bounds_.triangles.size() + bounds_.edges.size() + bounds_.vertices.size()) * sizeof(Dop18);
-  stats_.duplicate_root_pair_tests = duplicates;
+  stats_.duplicate_root_pair_tests = kept_tests - keys.size();
+  stats_.duplicate_culled_tests = culled_tests - culled_unique;
   std::vector<TrianglePair> pairs(keys.size());
   for (std::size_t k = 0; k < keys.size(); ++k) pairs[k] = unpack_pair(keys[k]);
   stats_.seconds_total = seconds_since(start);

@@ -142,7 +142,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
 
   // 5. One test per thread; 6. sort + unique of root pairs.
   enumerate_pairs_on_device(b.subdivision.leaves.data(), b.cells, grid, b.bounds.triangles.data(), triangle_count,
-                            b.pairs, stream, stats_);
+                            settings_.count_culled_duplicates, b.pairs, stream, stats_);
   paired.record(stream);
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
   stats_.seconds_bounds = seconds_between(start, bounded);

@@ -123,8 +123,8 @@ std::size_t sort_unique(std::uint64_t* in, std::size_t n, int end_bit, DevicePai
 }  // namespace
 
 void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists, const GridSpec& grid,
-                               const Dop18* triangle_dops, std::size_t triangle_count, DevicePairs& p,
-                               cudaStream_t stream, BroadPhaseStats& stats) {
+                               const Dop18* triangle_dops, std::size_t triangle_count, bool count_culled,
+                               DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats) {
   const std::size_t cells = lists.cells;
   p.counters.resize(kCounters + 1);
   p.pair_count = 0;
@@ -152,7 +152,8 @@ void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists,
   unsigned long long counts[kCounters] = {};
   if (tests > 0) {
     std::size_t kept_room = std::max<std::size_t>(p.kept.capacity(), std::min<std::uint64_t>(tests, 1 << 20));
-    std::size_t culled_room = std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(tests, 1 << 18));
+    std::size_t culled_room =
+        count_culled ? std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(tests, 1 << 18)) : 0;
     for (;;) {
       p.kept.resize(kept_room);
       p.culled.resize(culled_room);
@@ -165,7 +166,7 @@ void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists,
       SNAG_CUDA_CHECK_LAUNCH();
       p.counters.download(counts, kCounters);
       SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
-      if (counts[kKept] <= kept_room && counts[kCulled] <= culled_room) break;
+      if (counts[kKept] <= kept_room && (!count_culled || counts[kCulled] <= culled_room)) break;
       kept_room = std::max<std::size_t>(kept_room, counts[kKept]);
       culled_room = std::max<std::size_t>(culled_room, counts[kCulled]);
     }
@@ -178,14 +179,16 @@ void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists,
   stats.tests_after_control_bits = counts[kPassed];
   stats.culled_by_dop = counts[kCulled];
 
-  // Final sort + unique; duplicate root-pair tests counted exactly, as on the CPU.
-  const std::size_t kept_tests = counts[kKept], culled_tests = counts[kCulled];
+  // Final sort + unique; duplicate root-pair tests counted exactly, as on the CPU
+  // (among the culled tests only when their keys were kept).
+  const std::size_t kept_tests = counts[kKept], culled_tests = count_culled ? counts[kCulled] : 0;
   const int end_bit = 32 + bits_for(triangle_count > 0 ? triangle_count - 1 : 0);
   p.sorted.resize(std::max(kept_tests, culled_tests));
   p.unique_keys.resize(std::max(kept_tests, culled_tests));
   const std::size_t culled_unique = sort_unique(p.culled.data(), culled_tests, end_bit, p, p.unique_keys.data(), stream);
   const std::size_t kept_unique = sort_unique(p.kept.data(), kept_tests, end_bit, p, p.unique_keys.data(), stream);
-  stats.duplicate_root_pair_tests = (kept_tests - kept_unique) + (culled_tests - culled_unique);
+  stats.duplicate_root_pair_tests = kept_tests - kept_unique;
+  stats.duplicate_culled_tests = culled_tests - culled_unique;
   stats.triangle_pairs = kept_unique;
   p.pair_count = kept_unique;
   p.pairs.resize(kept_unique);

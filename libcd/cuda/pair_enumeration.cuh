@@ -34,12 +34,13 @@ struct DevicePairs {
 
 /// Runs every test of the registered cells and leaves the unique triangle
 /// pairs in pairs.pairs. Fills stats' test counters, culled_by_dop,
-/// duplicate_root_pair_tests and triangle_pairs. When more pairs pass than
-/// the preallocated arrays hold, they are grown and the tests run again.
-/// Waits for the stream. Throws CudaError.
+/// duplicate_root_pair_tests, duplicate_culled_tests (when count_culled: the
+/// culled tests' keys are then kept, see BroadPhaseSettings) and
+/// triangle_pairs. When more pairs pass than the preallocated arrays hold,
+/// they are grown and the tests run again. Waits for the stream. Throws CudaError.
 /// @param triangle_dops  #F device root swept DOPs; triangle_count = #F
 void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists, const GridSpec& grid,
-                               const Dop18* triangle_dops, std::size_t triangle_count, DevicePairs& pairs,
-                               cudaStream_t stream, BroadPhaseStats& stats);
+                               const Dop18* triangle_dops, std::size_t triangle_count, bool count_culled,
+                               DevicePairs& pairs, cudaStream_t stream, BroadPhaseStats& stats);
 
 }  // namespace snag

@@ -30,7 +30,8 @@ void add_broad(BroadPhaseStats& total, const BroadPhaseStats& s) {
       &BroadPhaseStats::tests, &BroadPhaseStats::same_root_tests, &BroadPhaseStats::removed_by_time_slots,
       &BroadPhaseStats::removed_by_control_bits, &BroadPhaseStats::removed_by_extended_control_bits,
       &BroadPhaseStats::fallback_tests, &BroadPhaseStats::tests_after_control_bits,
-      &BroadPhaseStats::duplicate_root_pair_tests, &BroadPhaseStats::culled_by_dop, &BroadPhaseStats::triangle_pairs,
+      &BroadPhaseStats::duplicate_root_pair_tests, &BroadPhaseStats::duplicate_culled_tests,
+      &BroadPhaseStats::culled_by_dop, &BroadPhaseStats::triangle_pairs,
       &BroadPhaseStats::vf_before_culling, &BroadPhaseStats::vf_after_culling, &BroadPhaseStats::ee_before_culling,
       &BroadPhaseStats::ee_after_culling, &BroadPhaseStats::candidates};
   for (auto field : counters) total.*field += s.*field;

@@ -95,6 +95,7 @@ void expect_same_counts(const BroadPhaseStats& cpu, const BroadPhaseStats& gpu) 
   EXPECT_EQ(cpu.fallback_tests, gpu.fallback_tests);
   EXPECT_EQ(cpu.tests_after_control_bits, gpu.tests_after_control_bits);
   EXPECT_EQ(cpu.duplicate_root_pair_tests, gpu.duplicate_root_pair_tests);
+  EXPECT_EQ(cpu.duplicate_culled_tests, gpu.duplicate_culled_tests);
   EXPECT_EQ(cpu.culled_by_dop, gpu.culled_by_dop);
   EXPECT_EQ(cpu.triangle_pairs, gpu.triangle_pairs);
   EXPECT_EQ(cpu.vf_before_culling, gpu.vf_before_culling);
@@ -205,6 +206,8 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuWithThicknessAndSafetyLimits) {
   const Soup soup = random_soup(21, 3000, true);
   BroadPhaseSettings settings;
   settings.thickness = 0.05;
+  expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, settings);
+  settings.count_culled_duplicates = true;
   expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, settings);
   settings.max_subdivision_levels = 1;
   settings.max_time_halvings = 1;

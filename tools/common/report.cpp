@@ -52,6 +52,7 @@ json broad_json(const BroadPhaseStats& s) {
           {"removed_by_extended_control_bits", s.removed_by_extended_control_bits},
           {"tests_after_control_bits", s.tests_after_control_bits},
           {"duplicate_root_pair_tests", s.duplicate_root_pair_tests},
+          {"duplicate_culled_tests", s.duplicate_culled_tests},
           {"culled_by_dop", s.culled_by_dop},
           {"triangle_pairs", s.triangle_pairs},
           {"vf_before_culling", s.vf_before_culling},

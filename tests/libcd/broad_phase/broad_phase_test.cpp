@@ -190,6 +190,26 @@ TEST(VirtualSubdivisionGrid, ResultsDoNotDependOnThreadCount) {
   EXPECT_EQ(a.stats().removed_by_extended_control_bits, b.stats().removed_by_extended_control_bits);
 }
 
+TEST(VirtualSubdivisionGrid, CountingCulledDuplicatesChangesOnlyThatCount) {
+  const Soup soup = random_soup(8, 400, true);
+  BroadPhaseSettings counted;
+  counted.count_culled_duplicates = true;
+  VirtualSubdivisionGrid plain, counting;
+  plain.build(soup.scene, BroadPhaseSettings{});
+  counting.build(soup.scene, counted);
+  CcdSets sa, sb;
+  plain.detect_ccd(soup.x_t0, soup.x_t1, sa.vf, sa.ee);
+  counting.detect_ccd(soup.x_t0, soup.x_t1, sb.vf, sb.ee);
+  EXPECT_TRUE(sa.vf == sb.vf);
+  EXPECT_TRUE(sa.ee == sb.ee);
+  EXPECT_EQ(plain.stats().culled_by_dop, counting.stats().culled_by_dop);
+  EXPECT_EQ(plain.stats().duplicate_root_pair_tests, counting.stats().duplicate_root_pair_tests);
+  EXPECT_EQ(plain.stats().duplicate_culled_tests, 0u);
+  EXPECT_GT(counting.stats().duplicate_culled_tests, 0u) << "the case must repeat culled root pairs";
+  EXPECT_LT(counting.stats().duplicate_culled_tests, counting.stats().culled_by_dop);
+  EXPECT_LT(plain.stats().memory_bytes, counting.stats().memory_bytes);
+}
+
 TEST(VirtualSubdivisionGrid, RejectsPositionsOfTheWrongSize) {
   const Soup soup = random_soup(1, 10, false);
   VirtualSubdivisionGrid vss;
