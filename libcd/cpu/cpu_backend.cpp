@@ -24,13 +24,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// One narrow-phase answer per candidate, kept by index so the output order
-/// does not depend on the thread schedule.
-struct CcdOutcome {
-  CcdResult result;
-  bool certified = false;
-};
-
 class CpuBackend final : public Backend {
  public:
   std::string name() const override { return "cpu"; }
@@ -93,12 +86,12 @@ class CpuBackend final : public Backend {
         stats_.narrow.predicate_exact += local.exact;
       }
       stats_.narrow.triangle_tests = pairs_.size();
-      std::vector<std::uint32_t> hits;
+      std::vector<TrianglePair> intersecting;
       for (std::size_t i = 0; i < pairs_.size(); ++i) {
-        if (hit[i]) hits.push_back(static_cast<std::uint32_t>(i));
+        if (hit[i]) intersecting.push_back(pairs_[i]);
       }
-      append_intersection_events(*scene_, x, pairs_, hits, events);
-      stats_.narrow.triangles_intersecting += hits.size();
+      append_intersection_events(*scene_, x, intersecting, events);
+      stats_.narrow.triangles_intersecting += intersecting.size();
       stats_.narrow.seconds_static = seconds_since(start);
     });
   }
@@ -106,89 +99,40 @@ class CpuBackend final : public Backend {
   const PipelineStats& stats() const override { return stats_; }
 
  private:
-  // Certifies an uncertain answer exactly when a certifier is bound.
-  void certify(CcdOutcome& outcome, const std::array<Vec3, 8>& points, bool edge_edge) const {
-    if (outcome.result.answer != CcdAnswer::kUncertain || settings_.certifier == nullptr) return;
-    const ExactAnswer exact = edge_edge ? settings_.certifier->edge_edge(points, settings_.thickness)
-                                        : settings_.certifier->vertex_face(points, settings_.thickness);
-    outcome.certified = true;
-    outcome.result.answer = exact.collides ? CcdAnswer::kYes : CcdAnswer::kNo;
-    outcome.result.toi_lo = exact.toi_lo;
-    outcome.result.toi_hi = exact.toi_hi;
-  }
-
-  template <typename Candidate, typename Test, typename Emit>
-  void run_ccd(const std::vector<Candidate>& candidates, bool edge_edge, Test test, Emit emit,
-               std::vector<Event>& events) {
-    std::vector<CcdOutcome> outcomes(candidates.size());
+  // Tests every candidate on all cores (answers kept by index, so the order
+  // does not depend on the thread schedule), then counts, certifies and emits
+  // as every back end does (append_collision_events).
+  template <typename Candidate, typename Test>
+  void run_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, const std::vector<Candidate>& candidates,
+               Test test, std::vector<Event>& events) {
+    std::vector<CcdResult> results(candidates.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) outcomes[i].result = test(candidates[i]);
+      for (std::size_t i = range.begin(); i != range.end(); ++i) results[i] = test(candidates[i]);
     });
-    std::size_t yes = 0, no = 0, uncertain = 0;
-    std::vector<std::size_t> to_certify;
-    for (std::size_t i = 0; i < outcomes.size(); ++i) {
-      switch (outcomes[i].result.answer) {
-        case CcdAnswer::kYes: ++yes; break;
-        case CcdAnswer::kNo: ++no; break;
-        case CcdAnswer::kUncertain: ++uncertain; to_certify.push_back(i); break;
-      }
+    CcdHits<Candidate> hits;
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      if (results[i].answer == CcdAnswer::kNo) continue;
+      hits.candidates.push_back(candidates[i]);
+      hits.results.push_back(results[i]);
     }
-    (edge_edge ? stats_.narrow.ee_tests : stats_.narrow.vf_tests) += candidates.size();
-    (edge_edge ? stats_.narrow.ee_yes : stats_.narrow.vf_yes) += yes;
-    (edge_edge ? stats_.narrow.ee_no : stats_.narrow.vf_no) += no;
-    (edge_edge ? stats_.narrow.ee_uncertain : stats_.narrow.vf_uncertain) += uncertain;
-    if (settings_.certifier != nullptr && !to_certify.empty()) {
-      const auto start = std::chrono::steady_clock::now();
-      tbb::parallel_for(std::size_t{0}, to_certify.size(), [&](std::size_t k) {
-        const std::size_t i = to_certify[k];
-        certify(outcomes[i], emit.points(candidates[i]), edge_edge);
-      });
-      stats_.narrow.seconds_certify += seconds_since(start);
-      stats_.narrow.certified += to_certify.size();
-      for (std::size_t i : to_certify) stats_.narrow.certified_true += outcomes[i].result.answer == CcdAnswer::kYes;
-    }
-    for (std::size_t i = 0; i < outcomes.size(); ++i) {
-      if (outcomes[i].result.answer == CcdAnswer::kNo) continue;
-      events.push_back(emit.event(candidates[i], outcomes[i]));
-    }
+    append_collision_events(*scene_, x_t0, x_t1, candidates.size(), hits, settings_.certifier, settings_.thickness,
+                            stats_.narrow, events);
   }
 
   void narrow_vertex_face(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    const Scene& scene = *scene_;
     const CcdSettings ccd = settings_.ccd;
-    struct Emit {
-      const Scene& scene;
-      const std::vector<Vec3>& x_t0;
-      const std::vector<Vec3>& x_t1;
-      std::array<Vec3, 8> points(const VertexFaceCandidate& c) const { return vertex_face_points(scene, x_t0, x_t1, c); }
-      Event event(const VertexFaceCandidate& c, const CcdOutcome& o) const {
-        return vertex_face_event(scene, x_t0, x_t1, c, o.result);
-      }
-    } emit{scene, x_t0, x_t1};
-    auto test = [&](const VertexFaceCandidate& c) {
-      const std::array<Vec3, 8> p = vertex_face_points(scene, x_t0, x_t1, c);
+    run_ccd(x_t0, x_t1, vf_, [&](const VertexFaceCandidate& c) {
+      const std::array<Vec3, 8> p = vertex_face_points(*scene_, x_t0, x_t1, c);
       return vertex_face_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], ccd);
-    };
-    run_ccd(vf_, false, test, emit, events);
+    }, events);
   }
 
   void narrow_edge_edge(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    const Scene& scene = *scene_;
     const CcdSettings ccd = settings_.ccd;
-    struct Emit {
-      const Scene& scene;
-      const std::vector<Vec3>& x_t0;
-      const std::vector<Vec3>& x_t1;
-      std::array<Vec3, 8> points(const EdgeEdgeCandidate& c) const { return edge_edge_points(scene, x_t0, x_t1, c); }
-      Event event(const EdgeEdgeCandidate& c, const CcdOutcome& o) const {
-        return edge_edge_event(scene, x_t0, x_t1, c, o.result);
-      }
-    } emit{scene, x_t0, x_t1};
-    auto test = [&](const EdgeEdgeCandidate& c) {
-      const std::array<Vec3, 8> p = edge_edge_points(scene, x_t0, x_t1, c);
+    run_ccd(x_t0, x_t1, ee_, [&](const EdgeEdgeCandidate& c) {
+      const std::array<Vec3, 8> p = edge_edge_points(*scene_, x_t0, x_t1, c);
       return edge_edge_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], ccd);
-    };
-    run_ccd(ee_, true, test, emit, events);
+    }, events);
   }
 
   const Scene* scene_ = nullptr;

@@ -5,15 +5,17 @@
 //    holds. A frame already in a slot (compared by content with the mirror:
 //    the scan passes step f's x_t1 again as frame f + 1's x and step f + 1's
 //    x_t0) is not uploaded again; a new frame is copied to the mirror and
-//    uploaded on a copy stream while the broad phase runs, and the compute
-//    stream waits for it with an event.
-//  - broad phase: the GPU broad phase (libcd/cuda/cuda_broad_phase.hpp) when
-//    this tree has it, else the CPU one; its candidates are uploaded.
-//  - narrow phase: libcd/cuda/narrow_phase.cuh (same functions as the CPU).
+//    uploaded on a copy stream, and the compute stream waits for it with an
+//    event.
+//  - broad phase: the GPU broad phase (libcd/cuda/cuda_broad_phase.cuh) on the
+//    positions in the slots; its candidates stay on the device.
+//  - narrow phase: libcd/cuda/narrow_phase.cuh (same functions as the CPU),
+//    reading the broad phase's candidates in place; only the hits, and the
+//    candidates they belong to, come back to the host.
 //  - certification: the answers left uncertain go to settings.certifier on
 //    the CPU, as in the CPU back end.
 //  - events: built on the host from the same doubles with the same formulas
-//    (event_position.hpp) and sorted with event_order: bit-identical to the
+//    (event_builder.hpp) and sorted with event_order: bit-identical to the
 //    CPU back end's.
 #include "libcd/cuda/cuda_backend.hpp"
 
@@ -27,18 +29,12 @@
 #include <string>
 
 #include "libcd/core/error.hpp"
+#include "libcd/cuda/cuda_broad_phase.cuh"
 #include "libcd/cuda/cuda_check.cuh"
 #include "libcd/cuda/cuda_event.cuh"
 #include "libcd/cuda/device_buffer.cuh"
 #include "libcd/cuda/narrow_phase.cuh"
 #include "libcd/pipeline/event_builder.hpp"
-
-#if __has_include("libcd/cuda/cuda_broad_phase.hpp")
-#include "libcd/cuda/cuda_broad_phase.hpp"
-#define SNAG_CUDA_BACKEND_GPU_BROAD_PHASE 1
-#else
-#define SNAG_CUDA_BACKEND_GPU_BROAD_PHASE 0
-#endif
 
 namespace snag {
 
@@ -48,12 +44,13 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::unique_ptr<BroadPhase> make_broad(BroadPhaseMethod method) {
-#if SNAG_CUDA_BACKEND_GPU_BROAD_PHASE
-  return make_cuda_broad_phase(method);
-#else
-  return make_broad_phase(method);
-#endif
+std::unique_ptr<CudaBroadPhase> make_broad(BroadPhaseMethod method) {
+  switch (method) {
+    case BroadPhaseMethod::kVirtualSubdivisionGrid: return std::make_unique<CudaBroadPhase>(true);
+    case BroadPhaseMethod::kLargestTriangleGrid: return std::make_unique<CudaBroadPhase>(false);
+    case BroadPhaseMethod::kBruteForce: break;
+  }
+  throw UsageError("the CUDA back end has no brute-force broad phase; use --backend cpu");
 }
 
 /// A stream that is destroyed with its owner.
@@ -81,22 +78,12 @@ struct FrameSlot {
   unsigned long long last_use = 0;
 };
 
-/// A CCD answer per candidate, kept by candidate index (as the CPU's CcdOutcome).
-struct CcdOutcome {
-  std::uint32_t candidate = 0;
-  CcdResult result;
-  bool certified = false;
-};
-
 class CudaBackend final : public Backend {
  public:
   explicit CudaBackend(BroadPhaseMethod method)
       : method_(method),
         triangles_(0, compute_.get()),
         edges_(0, compute_.get()),
-        vf_device_(0, compute_.get()),
-        ee_device_(0, compute_.get()),
-        pairs_device_(0, compute_.get()),
         narrow_(compute_.get()),
         slots_{FrameSlot(copy_.get()), FrameSlot(copy_.get())} {}
 
@@ -154,25 +141,29 @@ class CudaBackend final : public Backend {
     stats_.steps = 1;
     const int slot_t0 = upload_frame(x_t0, -1);
     const int slot_t1 = upload_frame(x_t1, slot_t0);
-    arena_->execute([&] { ccd_broad_->detect_ccd(x_t0, x_t1, vf_, ee_); });
-    stats_.ccd_broad = ccd_broad_->stats();
-
-    const auto start = std::chrono::steady_clock::now();
-    const std::size_t first = events.size();
-    upload_candidates(vf_, vf_device_, "vertex-face candidates");
-    upload_candidates(ee_, ee_device_, "edge-edge candidates");
     wait_for(slot_t0);
     wait_for(slot_t1);
     const Vec3* d_x_t0 = slots_[slot_t0].device.data();
     const Vec3* d_x_t1 = slots_[slot_t1].device.data();
-    std::vector<CcdHit> vf_hits, ee_hits;
-    narrow_.vertex_face(d_x_t0, d_x_t1, triangles_.data(), vf_device_.data(), vf_.size(), settings_.ccd,
-                        CcdPasses::kScreenThenSearch, vf_hits);
-    narrow_.edge_edge(d_x_t0, d_x_t1, edges_.data(), ee_device_.data(), ee_.size(), settings_.ccd,
-                      CcdPasses::kScreenThenSearch, ee_hits);
+    const DeviceCandidates candidates = ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get());
+    stats_.ccd_broad = ccd_broad_->stats();
+
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t first = events.size();
+    std::vector<CcdHit> vf_answers, ee_answers;
+    CcdHits<VertexFaceCandidate> vf_hits;
+    CcdHits<EdgeEdgeCandidate> ee_hits;
+    narrow_.vertex_face(d_x_t0, d_x_t1, triangles_.data(), candidates.vf, candidates.vf_count, settings_.ccd,
+                        CcdPasses::kScreenThenSearch, vf_answers, &vf_hits.candidates);
+    narrow_.edge_edge(d_x_t0, d_x_t1, edges_.data(), candidates.ee, candidates.ee_count, settings_.ccd,
+                      CcdPasses::kScreenThenSearch, ee_answers, &ee_hits.candidates);
+    for (const CcdHit& hit : vf_answers) vf_hits.results.push_back(hit.result);
+    for (const CcdHit& hit : ee_answers) ee_hits.results.push_back(hit.result);
     arena_->execute([&] {
-      emit_vertex_face(x_t0, x_t1, vf_hits, events);
-      emit_edge_edge(x_t0, x_t1, ee_hits, events);
+      append_collision_events(*scene_, x_t0, x_t1, candidates.vf_count, vf_hits, settings_.certifier,
+                              settings_.thickness, stats_.narrow, events);
+      append_collision_events(*scene_, x_t0, x_t1, candidates.ee_count, ee_hits, settings_.certifier,
+                              settings_.thickness, stats_.narrow, events);
     });
     std::sort(events.begin() + static_cast<std::ptrdiff_t>(first), events.end(), event_order);
     stats_.narrow.seconds_ccd = seconds_since(start) - stats_.narrow.seconds_certify;
@@ -183,20 +174,20 @@ class CudaBackend final : public Backend {
     stats_ = PipelineStats{};
     stats_.frames = 1;
     const int slot = upload_frame(x, -1);
-    arena_->execute([&] { static_broad_->detect_static(x, pairs_); });
+    wait_for(slot);
+    const Vec3* d_x = slots_[slot].device.data();
+    const DeviceCandidates candidates = static_broad_->detect_static_on_device(d_x, compute_.get());
     stats_.static_broad = static_broad_->stats();
 
     const auto start = std::chrono::steady_clock::now();
-    upload_candidates(pairs_, pairs_device_, "triangle pairs");
-    wait_for(slot);
     std::vector<std::uint32_t> hits;
+    std::vector<TrianglePair> hit_pairs;
     TrianglePairCounts counts;
-    narrow_.triangle_pairs(slots_[slot].device.data(), triangles_.data(), pairs_device_.data(), pairs_.size(), hits,
-                           counts);
+    narrow_.triangle_pairs(d_x, triangles_.data(), candidates.pairs, candidates.pair_count, hits, counts, &hit_pairs);
     stats_.narrow.predicate_calls = counts.predicate_calls;
     stats_.narrow.predicate_exact = counts.predicate_exact;
-    stats_.narrow.triangle_tests = pairs_.size();
-    arena_->execute([&] { append_intersection_events(*scene_, x, pairs_, hits, events); });
+    stats_.narrow.triangle_tests = candidates.pair_count;
+    arena_->execute([&] { append_intersection_events(*scene_, x, hit_pairs, events); });
     stats_.narrow.triangles_intersecting += hits.size();
     stats_.narrow.seconds_static = seconds_since(start);
   }
@@ -243,108 +234,18 @@ class CudaBackend final : public Backend {
 
   void wait_for(int slot) { SNAG_CUDA_CHECK(cudaStreamWaitEvent(compute_.get(), slots_[slot].uploaded.get(), 0)); }
 
-  template <class T>
-  void upload_candidates(const std::vector<T>& host, DeviceBuffer<T>& device, const char* what) {
-    resize_or_throw(device, host.size(), what);
-    if (!host.empty()) {
-      SNAG_CUDA_CHECK(cudaMemcpyAsync(device.data(), host.data(), host.size() * sizeof(T), cudaMemcpyHostToDevice,
-                                      compute_.get()));
-    }
-  }
-
-  // Counts the answers, certifies the uncertain ones and appends the events,
-  // as the CPU back end's run_ccd does.
-  template <class Emit>
-  void finish_ccd(std::size_t tests, const std::vector<CcdHit>& hits, bool edge_edge, const Emit& emit,
-                  std::vector<Event>& events) {
-    std::vector<CcdOutcome> outcomes(hits.size());
-    std::size_t yes = 0, uncertain = 0;
-    std::vector<std::size_t> to_certify;
-    for (std::size_t k = 0; k < hits.size(); ++k) {
-      outcomes[k].candidate = hits[k].candidate;
-      outcomes[k].result = hits[k].result;
-      if (hits[k].result.answer == CcdAnswer::kYes) {
-        ++yes;
-      } else {
-        ++uncertain;
-        to_certify.push_back(k);
-      }
-    }
-    (edge_edge ? stats_.narrow.ee_tests : stats_.narrow.vf_tests) += tests;
-    (edge_edge ? stats_.narrow.ee_yes : stats_.narrow.vf_yes) += yes;
-    (edge_edge ? stats_.narrow.ee_no : stats_.narrow.vf_no) += tests - yes - uncertain;
-    (edge_edge ? stats_.narrow.ee_uncertain : stats_.narrow.vf_uncertain) += uncertain;
-    const Certifier* certifier = settings_.certifier;
-    if (certifier != nullptr && !to_certify.empty()) {
-      const auto start = std::chrono::steady_clock::now();
-      tbb::parallel_for(std::size_t{0}, to_certify.size(), [&](std::size_t j) {
-        CcdOutcome& outcome = outcomes[to_certify[j]];
-        const std::array<Vec3, 8> points = emit.points(outcome.candidate);
-        const ExactAnswer exact = edge_edge ? certifier->edge_edge(points, settings_.thickness)
-                                            : certifier->vertex_face(points, settings_.thickness);
-        outcome.certified = true;
-        outcome.result.answer = exact.collides ? CcdAnswer::kYes : CcdAnswer::kNo;
-        outcome.result.toi_lo = exact.toi_lo;
-        outcome.result.toi_hi = exact.toi_hi;
-      });
-      stats_.narrow.seconds_certify += seconds_since(start);
-      stats_.narrow.certified += to_certify.size();
-      for (std::size_t k : to_certify) stats_.narrow.certified_true += outcomes[k].result.answer == CcdAnswer::kYes;
-    }
-    for (const CcdOutcome& outcome : outcomes) {
-      if (outcome.result.answer == CcdAnswer::kNo) continue;
-      events.push_back(emit.event(outcome.candidate, outcome.result));
-    }
-  }
-
-  void emit_vertex_face(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, const std::vector<CcdHit>& hits,
-                        std::vector<Event>& events) {
-    struct Emit {
-      const Scene& scene;
-      const std::vector<VertexFaceCandidate>& candidates;
-      const std::vector<Vec3>& x_t0;
-      const std::vector<Vec3>& x_t1;
-      std::array<Vec3, 8> points(std::uint32_t i) const { return vertex_face_points(scene, x_t0, x_t1, candidates[i]); }
-      Event event(std::uint32_t i, const CcdResult& result) const {
-        return vertex_face_event(scene, x_t0, x_t1, candidates[i], result);
-      }
-    } emit{*scene_, vf_, x_t0, x_t1};
-    finish_ccd(vf_.size(), hits, false, emit, events);
-  }
-
-  void emit_edge_edge(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, const std::vector<CcdHit>& hits,
-                      std::vector<Event>& events) {
-    struct Emit {
-      const Scene& scene;
-      const std::vector<EdgeEdgeCandidate>& candidates;
-      const std::vector<Vec3>& x_t0;
-      const std::vector<Vec3>& x_t1;
-      std::array<Vec3, 8> points(std::uint32_t i) const { return edge_edge_points(scene, x_t0, x_t1, candidates[i]); }
-      Event event(std::uint32_t i, const CcdResult& result) const {
-        return edge_edge_event(scene, x_t0, x_t1, candidates[i], result);
-      }
-    } emit{*scene_, ee_, x_t0, x_t1};
-    finish_ccd(ee_.size(), hits, true, emit, events);
-  }
-
   BroadPhaseMethod method_;
   // Declared first: the buffers below are freed in their streams' order.
   Stream compute_, copy_;
   const Scene* scene_ = nullptr;
   BackendSettings settings_;
-  std::unique_ptr<BroadPhase> ccd_broad_, static_broad_;
+  std::unique_ptr<CudaBroadPhase> ccd_broad_, static_broad_;
   std::unique_ptr<tbb::task_arena> arena_;
   DeviceBuffer<Triangle> triangles_;
   DeviceBuffer<Edge> edges_;
-  DeviceBuffer<VertexFaceCandidate> vf_device_;
-  DeviceBuffer<EdgeEdgeCandidate> ee_device_;
-  DeviceBuffer<TrianglePair> pairs_device_;
   CudaNarrowPhase narrow_;
   FrameSlot slots_[2];
   unsigned long long use_clock_ = 0;
-  std::vector<VertexFaceCandidate> vf_;
-  std::vector<EdgeEdgeCandidate> ee_;
-  std::vector<TrianglePair> pairs_;
   PipelineStats stats_;
 };
 

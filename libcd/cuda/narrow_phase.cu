@@ -4,6 +4,7 @@
 
 #include <thrust/iterator/counting_iterator.h>
 
+#include <algorithm>
 #include <cub/block/block_reduce.cuh>
 #include <cub/device/device_select.cuh>
 
@@ -31,6 +32,7 @@ constexpr unsigned char kScreenedNo = 0, kScreenedHit = 1, kUndecided = 2;
 
 // A vertex-face query: candidate i's eight points and the two CCD functions.
 struct VertexFaceQuery {
+  using Candidate = VertexFaceCandidate;
   const Vec3* __restrict__ x_t0;
   const Vec3* __restrict__ x_t1;
   const Index* __restrict__ corners;
@@ -64,6 +66,7 @@ struct VertexFaceQuery {
 
 // An edge-edge query.
 struct EdgeEdgeQuery {
+  using Candidate = EdgeEdgeCandidate;
   const Vec3* __restrict__ x_t0;
   const Vec3* __restrict__ x_t1;
   const Index* __restrict__ ends;
@@ -143,6 +146,14 @@ __global__ void ccd_full_kernel(Query query, const std::uint32_t* __restrict__ s
   hit[k] = result.answer != CcdAnswer::kNo ? 1 : 0;
 }
 
+// out[k] = items[subset[k]] for k < count.
+template <class T>
+__global__ void gather_kernel(const T* __restrict__ items, const std::uint32_t* __restrict__ subset, std::size_t count,
+                              T* __restrict__ out) {
+  const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k < count) out[k] = items[subset[k]];
+}
+
 // The static test: thread i tests pair i; the predicate counters are summed
 // per block and added to counters[0] (calls) and counters[1] (exact).
 __global__ void triangle_pairs_kernel(const Vec3* __restrict__ x, const Index* __restrict__ corners,
@@ -198,7 +209,8 @@ CudaNarrowPhase::CudaNarrowPhase(cudaStream_t stream)
       selected_results_(0, stream),
       selected_count_(1, stream),
       counters_(2, stream),
-      temp_(0, stream) {}
+      temp_(0, stream),
+      gathered_(0, stream) {}
 
 std::size_t CudaNarrowPhase::select_flagged(std::size_t count) {
   resize_or_throw(selected_, count, "CCD candidate indices");
@@ -211,11 +223,34 @@ std::size_t CudaNarrowPhase::select_flagged(std::size_t count) {
   return static_cast<std::size_t>(selected);
 }
 
+template <class T>
+void CudaNarrowPhase::download_selected(const T* items, std::size_t count, std::vector<T>& out) {
+  if (count == 0) return;
+  resize_or_throw(gathered_, count * sizeof(T), "gathered hits");
+  T* staged = reinterpret_cast<T*>(gathered_.data());  // cudaMallocAsync memory: aligned for any T
+  gather_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(items, selected_.data(), count, staged);
+  SNAG_CUDA_CHECK_LAUNCH();
+  const std::size_t first = out.size();
+  out.resize(first + count);
+  SNAG_CUDA_CHECK(
+      cudaMemcpyAsync(out.data() + first, staged, count * sizeof(T), cudaMemcpyDeviceToHost, stream_));
+}
+
 template <class Query>
 void CudaNarrowPhase::run_ccd(const Query& query, std::size_t count, const CcdSettings& settings, CcdPasses passes,
-                              std::vector<CcdHit>& hits) {
-  if (count == 0) return;
+                              std::vector<CcdHit>& hits, std::vector<typename Query::Candidate>* hit_candidates) {
   if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 candidates per call", 0);
+  for (std::size_t first = 0; first < count; first += chunk_size_) {
+    Query chunk = query;
+    chunk.candidates += first;
+    run_ccd_chunk(chunk, std::min(chunk_size_, count - first), first, settings, passes, hits, hit_candidates);
+  }
+}
+
+template <class Query>
+void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::size_t first,
+                                    const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits,
+                                    std::vector<typename Query::Candidate>* hit_candidates) {
   const bool screen = passes == CcdPasses::kScreenThenSearch;
   CudaEvent start, screened, compacted, searched;
   resize_or_throw(results_, count, "CCD results");
@@ -245,6 +280,7 @@ void CudaNarrowPhase::run_ccd(const Query& query, std::size_t count, const CcdSe
 
   std::vector<std::uint32_t> indices(survivors);
   std::vector<CcdResult> results(survivors);
+  std::vector<typename Query::Candidate> candidates;
   if (survivors > 0) {
     if (screen) {
       resize_or_throw(searched_results_, survivors, "CCD search results");
@@ -263,6 +299,7 @@ void CudaNarrowPhase::run_ccd(const Query& query, std::size_t count, const CcdSe
       selected_results_.download(results.data(), survivors);
     }
     selected_.download(indices.data(), survivors);
+    if (hit_candidates != nullptr) download_selected(query.candidates, survivors, candidates);
   } else {
     searched.record(stream_);
   }
@@ -279,28 +316,40 @@ void CudaNarrowPhase::run_ccd(const Query& query, std::size_t count, const CcdSe
   }
   for (std::size_t k = 0; k < survivors; ++k) {
     if (results[k].answer == CcdAnswer::kNo) continue;  // the full search ruled it out
-    hits.push_back(CcdHit{indices[k], results[k]});
+    hits.push_back(CcdHit{static_cast<std::uint32_t>(first + indices[k]), results[k]});
+    if (hit_candidates != nullptr) hit_candidates->push_back(candidates[k]);
   }
 }
 
 void CudaNarrowPhase::vertex_face(const Vec3* x_t0, const Vec3* x_t1, const Triangle* triangles,
                                   const VertexFaceCandidate* candidates, std::size_t count,
-                                  const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits) {
+                                  const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits,
+                                  std::vector<VertexFaceCandidate>* hit_candidates) {
   run_ccd(VertexFaceQuery{x_t0, x_t1, reinterpret_cast<const Index*>(triangles), candidates}, count, settings, passes,
-          hits);
+          hits, hit_candidates);
 }
 
 void CudaNarrowPhase::edge_edge(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges,
                                 const EdgeEdgeCandidate* candidates, std::size_t count, const CcdSettings& settings,
-                                CcdPasses passes, std::vector<CcdHit>& hits) {
-  run_ccd(EdgeEdgeQuery{x_t0, x_t1, reinterpret_cast<const Index*>(edges), candidates}, count, settings, passes, hits);
+                                CcdPasses passes, std::vector<CcdHit>& hits,
+                                std::vector<EdgeEdgeCandidate>* hit_candidates) {
+  run_ccd(EdgeEdgeQuery{x_t0, x_t1, reinterpret_cast<const Index*>(edges), candidates}, count, settings, passes, hits,
+          hit_candidates);
 }
 
 void CudaNarrowPhase::triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
                                      std::size_t count, std::vector<std::uint32_t>& hits,
-                                     TrianglePairCounts& counts) {
-  if (count == 0) return;
+                                     TrianglePairCounts& counts, std::vector<TrianglePair>* hit_pairs) {
   if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 pairs per call", 0);
+  for (std::size_t first = 0; first < count; first += chunk_size_) {
+    triangle_pairs_chunk(x, triangles, pairs + first, std::min(chunk_size_, count - first), first, hits, counts,
+                         hit_pairs);
+  }
+}
+
+void CudaNarrowPhase::triangle_pairs_chunk(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
+                                           std::size_t count, std::size_t first, std::vector<std::uint32_t>& hits,
+                                           TrianglePairCounts& counts, std::vector<TrianglePair>* hit_pairs) {
   CudaEvent start, tested;
   resize_or_throw(flags_, count, "triangle-pair flags");
   resize_or_throw(selected_, count, "triangle-pair indices");
@@ -311,14 +360,16 @@ void CudaNarrowPhase::triangle_pairs(const Vec3* x, const Triangle* triangles, c
   SNAG_CUDA_CHECK_LAUNCH();
   tested.record(stream_);
   const std::size_t intersecting = select_flagged(count);
-  const std::size_t first = hits.size();
-  hits.resize(first + intersecting);
-  selected_.download(hits.data() + first, intersecting);
+  const std::size_t old_size = hits.size();
+  hits.resize(old_size + intersecting);
+  selected_.download(hits.data() + old_size, intersecting);
+  if (hit_pairs != nullptr) download_selected(pairs, intersecting, *hit_pairs);
   unsigned long long sums[2] = {0, 0};
   counters_.download(sums, 2);
   CudaEvent done;
   done.record(stream_);
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
+  for (std::size_t k = old_size; k < hits.size(); ++k) hits[k] += static_cast<std::uint32_t>(first);
   counts.predicate_calls += sums[0];
   counts.predicate_exact += sums[1];
   timings_.static_ms += CudaEvent::elapsed_ms(start, tested);

@@ -89,20 +89,33 @@ class CudaNarrowPhase {
 
   /// Vertex-face CCD of `count` candidates (device arrays): positions
   /// x_t0/x_t1 (#V), triangles (#F). Appends the hits (answers other than
-  /// kNo) to `hits` in candidate order. Waits for the stream. Throws CudaError.
+  /// kNo) to `hits` in candidate order and, when hit_candidates is given, the
+  /// hit candidates themselves to it (gathered on the device, so that a
+  /// caller whose candidates live only on the device gets just the hits).
+  /// Waits for the stream. Throws CudaError.
   void vertex_face(const Vec3* x_t0, const Vec3* x_t1, const Triangle* triangles,
                    const VertexFaceCandidate* candidates, std::size_t count, const CcdSettings& settings,
-                   CcdPasses passes, std::vector<CcdHit>& hits);
+                   CcdPasses passes, std::vector<CcdHit>& hits,
+                   std::vector<VertexFaceCandidate>* hit_candidates = nullptr);
 
   /// Edge-edge CCD, as vertex_face with edges (#E) instead of triangles.
   void edge_edge(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges, const EdgeEdgeCandidate* candidates,
-                 std::size_t count, const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits);
+                 std::size_t count, const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits,
+                 std::vector<EdgeEdgeCandidate>* hit_candidates = nullptr);
 
   /// Static test of `count` triangle pairs at positions x (#V): appends the
-  /// indices of the intersecting pairs, in order, to `hits`, and adds the
-  /// predicate counts to `counts`. Waits for the stream. Throws CudaError.
+  /// indices of the intersecting pairs, in order, to `hits` (and the pairs
+  /// themselves to hit_pairs when given), and adds the predicate counts to
+  /// `counts`. Waits for the stream. Throws CudaError.
   void triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs, std::size_t count,
-                      std::vector<std::uint32_t>& hits, TrianglePairCounts& counts);
+                      std::vector<std::uint32_t>& hits, TrianglePairCounts& counts,
+                      std::vector<TrianglePair>* hit_pairs = nullptr);
+
+  /// Candidates (or pairs) per kernel round; a call over more runs in rounds
+  /// of this many, so that the device memory of a call is bounded by the
+  /// round, not by the candidate count. Results do not depend on it.
+  void set_chunk_size(std::size_t candidates) { chunk_size_ = candidates > 0 ? candidates : 1; }
+  static constexpr std::size_t kDefaultChunkSize = std::size_t{1} << 24;
 
   /// Timings of the calls since the last reset.
   const NarrowPhaseTimings& timings() const { return timings_; }
@@ -111,8 +124,19 @@ class CudaNarrowPhase {
  private:
   template <class Query>
   void run_ccd(const Query& query, std::size_t count, const CcdSettings& settings, CcdPasses passes,
-               std::vector<CcdHit>& hits);
+               std::vector<CcdHit>& hits, std::vector<typename Query::Candidate>* hit_candidates);
+  /// One round: candidates [first, first + count) of the call, `query` starting at `first`.
+  template <class Query>
+  void run_ccd_chunk(const Query& query, std::size_t count, std::size_t first, const CcdSettings& settings,
+                     CcdPasses passes, std::vector<CcdHit>& hits,
+                     std::vector<typename Query::Candidate>* hit_candidates);
+  void triangle_pairs_chunk(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs, std::size_t count,
+                            std::size_t first, std::vector<std::uint32_t>& hits, TrianglePairCounts& counts,
+                            std::vector<TrianglePair>* hit_pairs);
   std::size_t select_flagged(std::size_t count);
+  /// Copies items[selected_[k]] for k < count to the host, appending to `out`.
+  template <class T>
+  void download_selected(const T* items, std::size_t count, std::vector<T>& out);
 
   cudaStream_t stream_;
   DeviceBuffer<CcdResult> results_, searched_results_;
@@ -122,7 +146,9 @@ class CudaNarrowPhase {
   DeviceBuffer<long long> selected_count_;
   DeviceBuffer<unsigned long long> counters_;
   DeviceBuffer<unsigned char> temp_;
+  DeviceBuffer<unsigned char> gathered_;  ///< download_selected's staging, any item type
   NarrowPhaseTimings timings_;
+  std::size_t chunk_size_ = kDefaultChunkSize;
 };
 
 /// Resizes `buffer` to `count`; when the device cannot hold it, throws

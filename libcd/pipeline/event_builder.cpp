@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <chrono>
+
 #include "libcd/pipeline/event_position.hpp"
 
 namespace snag {
@@ -20,7 +22,72 @@ Event collision(ContactType type, Index a, Index b, const CcdResult& result) {
   return e;
 }
 
+ExactAnswer decide_exactly(const Certifier& certifier, const Scene& scene, const std::vector<Vec3>& x_t0,
+                           const std::vector<Vec3>& x_t1, const VertexFaceCandidate& c, double thickness) {
+  return certifier.vertex_face(vertex_face_points(scene, x_t0, x_t1, c), thickness);
+}
+
+ExactAnswer decide_exactly(const Certifier& certifier, const Scene& scene, const std::vector<Vec3>& x_t0,
+                           const std::vector<Vec3>& x_t1, const EdgeEdgeCandidate& c, double thickness) {
+  return certifier.edge_edge(edge_edge_points(scene, x_t0, x_t1, c), thickness);
+}
+
+Event collision_event(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                      const VertexFaceCandidate& c, const CcdResult& result) {
+  return vertex_face_event(scene, x_t0, x_t1, c, result);
+}
+
+Event collision_event(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                      const EdgeEdgeCandidate& c, const CcdResult& result) {
+  return edge_edge_event(scene, x_t0, x_t1, c, result);
+}
+
+template <class Candidate>
+void append_collisions(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                       std::size_t tests, CcdHits<Candidate>& hits, const Certifier* certifier, double thickness,
+                       bool edge_edge, NarrowPhaseStats& stats, std::vector<Event>& events) {
+  std::vector<std::size_t> uncertain;
+  for (std::size_t k = 0; k < hits.results.size(); ++k) {
+    if (hits.results[k].answer == CcdAnswer::kUncertain) uncertain.push_back(k);
+  }
+  const std::size_t yes = hits.results.size() - uncertain.size();
+  (edge_edge ? stats.ee_tests : stats.vf_tests) += tests;
+  (edge_edge ? stats.ee_yes : stats.vf_yes) += yes;
+  (edge_edge ? stats.ee_no : stats.vf_no) += tests - hits.results.size();
+  (edge_edge ? stats.ee_uncertain : stats.vf_uncertain) += uncertain.size();
+  if (certifier != nullptr && !uncertain.empty()) {
+    const auto start = std::chrono::steady_clock::now();
+    tbb::parallel_for(std::size_t{0}, uncertain.size(), [&](std::size_t j) {
+      const std::size_t k = uncertain[j];
+      const ExactAnswer exact = decide_exactly(*certifier, scene, x_t0, x_t1, hits.candidates[k], thickness);
+      CcdResult& result = hits.results[k];
+      result.answer = exact.collides ? CcdAnswer::kYes : CcdAnswer::kNo;
+      result.toi_lo = exact.toi_lo;
+      result.toi_hi = exact.toi_hi;
+    });
+    stats.seconds_certify += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats.certified += uncertain.size();
+    for (std::size_t k : uncertain) stats.certified_true += hits.results[k].answer == CcdAnswer::kYes;
+  }
+  for (std::size_t k = 0; k < hits.results.size(); ++k) {
+    if (hits.results[k].answer == CcdAnswer::kNo) continue;
+    events.push_back(collision_event(scene, x_t0, x_t1, hits.candidates[k], hits.results[k]));
+  }
+}
+
 }  // namespace
+
+void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                             std::size_t tests, CcdHits<VertexFaceCandidate>& hits, const Certifier* certifier,
+                             double thickness, NarrowPhaseStats& stats, std::vector<Event>& events) {
+  append_collisions(scene, x_t0, x_t1, tests, hits, certifier, thickness, false, stats, events);
+}
+
+void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                             std::size_t tests, CcdHits<EdgeEdgeCandidate>& hits, const Certifier* certifier,
+                             double thickness, NarrowPhaseStats& stats, std::vector<Event>& events) {
+  append_collisions(scene, x_t0, x_t1, tests, hits, certifier, thickness, true, stats, events);
+}
 
 std::array<Vec3, 8> vertex_face_points(const Scene& scene, const std::vector<Vec3>& x_t0,
                                        const std::vector<Vec3>& x_t1, const VertexFaceCandidate& c) {
@@ -67,12 +134,12 @@ Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const T
   return e;
 }
 
-void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x, const std::vector<TrianglePair>& pairs,
-                                const std::vector<std::uint32_t>& hits, std::vector<Event>& events) {
+void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x,
+                                const std::vector<TrianglePair>& intersecting, std::vector<Event>& events) {
   const std::size_t first = events.size();
-  events.resize(first + hits.size());
-  tbb::parallel_for(std::size_t{0}, hits.size(),
-                    [&](std::size_t k) { events[first + k] = intersection_event(scene, x, pairs[hits[k]]); });
+  events.resize(first + intersecting.size());
+  tbb::parallel_for(std::size_t{0}, intersecting.size(),
+                    [&](std::size_t k) { events[first + k] = intersection_event(scene, x, intersecting[k]); });
 }
 
 }  // namespace snag

@@ -9,6 +9,7 @@
 
 #include "libcd/broad_phase/candidates.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
+#include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/event.hpp"
 #include "libcd/scene/scene.hpp"
 
@@ -29,12 +30,33 @@ Event vertex_face_event(const Scene& scene, const std::vector<Vec3>& x_t0, const
 Event edge_edge_event(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                       const EdgeEdgeCandidate& candidate, const CcdResult& result);
 
+/// The CCD candidates a filter did not rule out: candidates[k] answered
+/// results[k] (kYes or kUncertain), in candidate order.
+template <class Candidate>
+struct CcdHits {
+  std::vector<Candidate> candidates;
+  std::vector<CcdResult> results;
+};
+
+/// What both back ends do with the filter's answers to `tests` CCD queries of
+/// one kind, given its hits: adds the yes/no/uncertain counts to `stats`
+/// (vf_* or ee_*), certifies the uncertain hits with `certifier` when it is
+/// not null (in parallel; stats' certification fields), and appends the
+/// events of the hits that collide, in hit order. hits.results are updated
+/// with the exact answers.
+void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                             std::size_t tests, CcdHits<VertexFaceCandidate>& hits, const Certifier* certifier,
+                             double thickness, NarrowPhaseStats& stats, std::vector<Event>& events);
+void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                             std::size_t tests, CcdHits<EdgeEdgeCandidate>& hits, const Certifier* certifier,
+                             double thickness, NarrowPhaseStats& stats, std::vector<Event>& events);
+
 /// An intersection event (frame 0) of an intersecting triangle pair at positions x.
 Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const TrianglePair& pair);
 
-/// Appends the intersection events of pairs[i] for each i in `hits`, in that
-/// order (built in parallel: each computes a point of the overlap).
-void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x, const std::vector<TrianglePair>& pairs,
-                                const std::vector<std::uint32_t>& hits, std::vector<Event>& events);
+/// Appends the intersection events of the intersecting `pairs`, in order
+/// (built in parallel: each computes a point of the overlap).
+void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x,
+                                const std::vector<TrianglePair>& intersecting, std::vector<Event>& events);
 
 }  // namespace snag

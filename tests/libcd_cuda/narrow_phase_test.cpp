@@ -127,6 +127,38 @@ TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithNoFalseNegativesOnAllQueries) {
   }
 }
 
+TEST_F(NarrowPhaseCcdQueries, RoundsOfAnySizeGiveTheSameHitsAndTheirCandidates) {
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  const QueryBatch batch = make_batch(queries);
+  ASSERT_GT(batch.vf.size(), 1000u);
+  DeviceBuffer<Vec3> x_t0, x_t1;
+  DeviceBuffer<Triangle> triangles;
+  DeviceBuffer<Edge> edges;
+  DeviceBuffer<VertexFaceCandidate> vf;
+  DeviceBuffer<EdgeEdgeCandidate> ee;
+  x_t0.upload(batch.x_t0);
+  x_t1.upload(batch.x_t1);
+  triangles.upload(batch.triangles);
+  edges.upload(batch.edges);
+  vf.upload(batch.vf);
+  ee.upload(batch.ee);
+  CudaNarrowPhase narrow(nullptr);
+  narrow.set_chunk_size(97);  // many rounds, the last one partial
+  std::vector<CcdHit> vf_hits, ee_hits;
+  std::vector<VertexFaceCandidate> vf_candidates;
+  std::vector<EdgeEdgeCandidate> ee_candidates;
+  narrow.vertex_face(x_t0.data(), x_t1.data(), triangles.data(), vf.data(), batch.vf.size(), CcdSettings{},
+                     CcdPasses::kScreenThenSearch, vf_hits, &vf_candidates);
+  narrow.edge_edge(x_t0.data(), x_t1.data(), edges.data(), ee.data(), batch.ee.size(), CcdSettings{},
+                   CcdPasses::kScreenThenSearch, ee_hits, &ee_candidates);
+  expect_same_as_cpu(batch.vf_queries, vf_hits, CcdSettings{}, "rounds of 97");
+  expect_same_as_cpu(batch.ee_queries, ee_hits, CcdSettings{}, "rounds of 97");
+  ASSERT_EQ(vf_candidates.size(), vf_hits.size());
+  ASSERT_EQ(ee_candidates.size(), ee_hits.size());
+  for (std::size_t k = 0; k < vf_hits.size(); ++k) EXPECT_TRUE(vf_candidates[k] == batch.vf[vf_hits[k].candidate]);
+  for (std::size_t k = 0; k < ee_hits.size(); ++k) EXPECT_TRUE(ee_candidates[k] == batch.ee[ee_hits[k].candidate]);
+}
+
 TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithThickness) {
   const std::vector<io::CcdQuery> queries =
       io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries/unit-tests");
@@ -199,6 +231,18 @@ TEST_F(NarrowPhaseTrianglePairs, MatchesCpuOnRandomPairsWithSharedVertices) {
   EXPECT_EQ(gpu_hits, cpu_hits);
   EXPECT_EQ(gpu_counts.predicate_calls, cpu_counters.calls);
   EXPECT_EQ(gpu_counts.predicate_exact, cpu_counters.exact);
+
+  // In rounds of 101 pairs, with the intersecting pairs themselves.
+  narrow.set_chunk_size(101);
+  std::vector<std::uint32_t> round_hits;
+  std::vector<TrianglePair> round_pairs;
+  TrianglePairCounts round_counts;
+  narrow.triangle_pairs(d_x.data(), d_triangles.data(), d_pairs.data(), pairs.size(), round_hits, round_counts,
+                        &round_pairs);
+  EXPECT_EQ(round_hits, cpu_hits);
+  EXPECT_EQ(round_counts.predicate_calls, cpu_counters.calls);
+  ASSERT_EQ(round_pairs.size(), cpu_hits.size());
+  for (std::size_t k = 0; k < cpu_hits.size(); ++k) EXPECT_TRUE(round_pairs[k] == pairs[cpu_hits[k]]);
 }
 
 TEST_F(NarrowPhaseTrianglePairs, EmptyInputGivesNoHits) {
