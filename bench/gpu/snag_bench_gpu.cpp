@@ -8,7 +8,12 @@
 //  2. The narrow phase alone on the step's candidates, timed with CUDA
 //     events: screen then search against a single pass; tests per second.
 //  3. Scaling: the cloth Loop-subdivided twice (16 times the triangles, both
-//     frames refined alike).
+//     frames refined alike), over the whole step, where each triangle now
+//     moves 4 times its size as far, and over the first quarter of the step
+//     (x_t1 = x_t0 + (x_t1 - x_t0) / 4, on the linear trajectories), where
+//     motion per triangle size is the original's, as a simulation at this
+//     resolution would take it. The CPU back end runs the quarter step
+//     --large-cpu-runs times.
 //  4. The sample cache end to end through scan_cache (reading included):
 //     frames per second.
 // Prints a table last; --json FILE (or --benchmark_out=FILE) writes the results.
@@ -56,7 +61,7 @@ struct Options {
   std::string json_path;
   std::string data_dir = SNAG_SHARED_DATA_DIR;
   std::string samples_dir = std::string(SNAG_SOURCE_DIR) + "/samples";
-  int runs = 20, warmup = 2, large_runs = 5;
+  int runs = 20, warmup = 2, large_runs = 5, large_cpu_runs = 1;
   bool large = true, cpu = true;
 };
 
@@ -155,7 +160,7 @@ StepTimes time_step(Backend& backend, const std::string& broad_name, const Scene
 std::string row(const std::string& scene, const StepTimes& t) {
   char line[400];
   std::snprintf(line, sizeof line,
-                "%-22s %-5s %-9s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %10zu %10zu %9zu %6zu %6zu %9.1f\n",
+                "%-26s %-5s %-9s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %10zu %10zu %9zu %6zu %6zu %9.1f\n",
                 scene.c_str(), t.backend.c_str(), t.broad_phase.c_str(), t.total_ms, t.ccd_broad_ms,
                 t.narrow_ccd_ms, t.certify_ms, t.static_broad_ms, t.static_ms, t.vf, t.ee, t.pairs, t.collisions,
                 t.intersections, t.peak_device_bytes / 1048576.0);
@@ -179,7 +184,9 @@ ClothStep read_cloth_ball(const std::string& data_dir) {
   return step;
 }
 
-ClothStep refine(const ClothStep& step, int levels) {
+/// Loop-subdivides the cloth `levels` times; the step ends at the fraction
+/// `step_fraction` of the original step, on the linear trajectories.
+ClothStep refine(const ClothStep& step, int levels, double step_fraction) {
   std::vector<Triangle> triangles = step.scene.triangles();
   std::vector<std::vector<Vec3>> frames = {step.x_t0, step.x_t1};
   for (int level = 0; level < levels; ++level) bench::loop_subdivide(triangles, frames);
@@ -187,6 +194,10 @@ ClothStep refine(const ClothStep& step, int levels) {
   refined.scene = Scene({make_object("cloth_ball_refined", static_cast<Index>(frames[0].size()), triangles)});
   refined.x_t0 = std::move(frames[0]);
   refined.x_t1 = std::move(frames[1]);
+  if (step_fraction != 1.0) {
+    for (std::size_t v = 0; v < refined.x_t1.size(); ++v)
+      refined.x_t1[v] = refined.x_t0[v] + step_fraction * (refined.x_t1[v] - refined.x_t0[v]);
+  }
   return refined;
 }
 
@@ -209,13 +220,16 @@ Options parse(int argc, char** argv) {
       options.runs = std::max(1, std::atoi(value("--runs").c_str()));
     } else if (arg.rfind("--large-runs", 0) == 0) {
       options.large_runs = std::max(1, std::atoi(value("--large-runs").c_str()));
+    } else if (arg.rfind("--large-cpu-runs", 0) == 0) {
+      options.large_cpu_runs = std::max(1, std::atoi(value("--large-cpu-runs").c_str()));
     } else if (arg == "--no-large") {
       options.large = false;
     } else if (arg == "--no-cpu") {
       options.cpu = false;
     } else if (arg == "-h" || arg == "--help") {
       std::printf(
-          "usage: snag-bench-gpu [--json FILE] [--runs N (20)] [--large-runs N (5)] [--no-large] [--no-cpu]\n"
+          "usage: snag-bench-gpu [--json FILE] [--runs N (20)] [--large-runs N (5)] [--large-cpu-runs N (1)] "
+          "[--no-large] [--no-cpu]\n"
           "environment: SNAG_SHARED_DATA_DIR (reference data), SNAG_SAMPLES_DIR (sample caches)\n");
       std::exit(0);
     } else {
@@ -292,28 +306,39 @@ int run(int argc, char** argv) {
                          {"ccd_tests_per_second", narrow.ccd_tests_per_second},
                          {"static_tests_per_second", narrow.static_tests_per_second}};
 
-  // 3. Scaling: two Loop levels.
-  std::vector<StepTimes> large_times;
+  // 3. Scaling: two Loop levels, over the whole step and over its first quarter.
   if (options.large) {
-    const ClothStep large = refine(cloth, 2);
-    out["refined"]["triangles"] = large.scene.triangle_count();
-    out["refined"]["vertices"] = large.scene.vertex_count();
-    try {
-      auto gpu = make_cuda_backend(BroadPhaseMethod::kVirtualSubdivisionGrid);
-      large_times.push_back(
-          time_step(*gpu, "vss", large.scene, settings, large.x_t0, large.x_t1, 1, options.large_runs));
-      if (options.cpu) {
-        auto cpu = make_cpu_backend();
+    struct Variant {
+      const char* key;
+      const char* label;
+      double step_fraction;
+    };
+    for (const Variant& variant : {Variant{"refined", "cloth_ball x16", 1.0},
+                                   Variant{"refined_quarter_step", "cloth_ball x16, 1/4 step", 0.25}}) {
+      const ClothStep large = refine(cloth, 2, variant.step_fraction);
+      json& entry = out[variant.key];
+      entry["triangles"] = large.scene.triangle_count();
+      entry["vertices"] = large.scene.vertex_count();
+      entry["step_fraction"] = variant.step_fraction;
+      std::vector<StepTimes> large_times;
+      try {
+        auto gpu = make_cuda_backend(BroadPhaseMethod::kVirtualSubdivisionGrid);
         large_times.push_back(
-            time_step(*cpu, "vss", large.scene, settings, large.x_t0, large.x_t1, 1, options.large_runs));
+            time_step(*gpu, "vss", large.scene, settings, large.x_t0, large.x_t1, 1, options.large_runs));
+        if (options.cpu && variant.step_fraction != 1.0) {
+          auto cpu = make_cpu_backend();
+          large_times.push_back(
+              time_step(*cpu, "vss", large.scene, settings, large.x_t0, large.x_t1, 0, options.large_cpu_runs));
+          entry["cpu_over_gpu"] = large_times.back().total_ms / large_times.front().total_ms;
+        }
+      } catch (const CudaError& error) {
+        entry["error"] = error.what();
+        std::fprintf(stderr, "snag-bench-gpu: %s: %s\n", variant.label, error.what());
       }
-    } catch (const CudaError& error) {
-      out["refined"]["error"] = error.what();
-      std::fprintf(stderr, "snag-bench-gpu: refined cloth: %s\n", error.what());
-    }
-    for (const StepTimes& t : large_times) {
-      out["refined"]["steps"].push_back(t.to_json());
-      table += row("cloth_ball x16 (Loop 2)", t);
+      for (const StepTimes& t : large_times) {
+        entry["steps"].push_back(t.to_json());
+        table += row(variant.label, t);
+      }
     }
   }
 
@@ -358,7 +383,7 @@ int run(int argc, char** argv) {
               "(%zu searched), single pass %.3f ms, %.3g tests/s; static %zu pairs %.3f ms, %.3g tests/s\n",
               narrow.vf_candidates, narrow.ee_candidates, narrow.two_pass_ms, narrow.searched, narrow.one_pass_ms,
               narrow.ccd_tests_per_second, narrow.triangle_pairs, narrow.static_ms, narrow.static_tests_per_second);
-  std::printf("%-22s %-5s %-9s %9s %9s %9s %9s %9s %9s %10s %10s %9s %6s %6s %9s\n", "scene", "back", "broad",
+  std::printf("%-26s %-5s %-9s %9s %9s %9s %9s %9s %9s %10s %10s %9s %6s %6s %9s\n", "scene", "back", "broad",
               "total", "ccd_broad", "ccd_narr", "certify", "dcd_broad", "dcd_narr", "vf", "ee", "pairs", "coll",
               "inter", "peak_MiB");
   std::fputs(table.c_str(), stdout);

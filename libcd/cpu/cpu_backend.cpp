@@ -56,7 +56,7 @@ class CpuBackend final : public Backend {
       const std::size_t first = events.size();
       narrow_vertex_face(x_t0, x_t1, events);
       narrow_edge_edge(x_t0, x_t1, events);
-      std::sort(events.begin() + static_cast<std::ptrdiff_t>(first), events.end(), event_order);
+      sort_events_from(events, first);
       stats_.narrow.seconds_ccd = seconds_since(start) - stats_.narrow.seconds_certify;
     });
   }

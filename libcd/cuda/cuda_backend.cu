@@ -6,7 +6,8 @@
 //    the scan passes step f's x_t1 again as frame f + 1's x and step f + 1's
 //    x_t0) is not uploaded again; a new frame is copied to the mirror and
 //    uploaded on a copy stream, and the compute stream waits for it with an
-//    event.
+//    event. prepare() starts the upload of the scan's next frame into the
+//    slot used least recently, so it overlaps the work on the current one.
 //  - broad phase: the GPU broad phase (libcd/cuda/cuda_broad_phase.cuh) on the
 //    positions in the slots; its candidates stay on the device.
 //  - narrow phase: libcd/cuda/narrow_phase.cuh (same functions as the CPU),
@@ -139,7 +140,7 @@ class CudaBackend final : public Backend {
     require_bound(x_t0.size() == x_t1.size() && x_t0.size() == scene_->vertex_count());
     stats_ = PipelineStats{};
     stats_.steps = 1;
-    const int slot_t0 = upload_frame(x_t0, -1);
+    const int slot_t0 = upload_frame(x_t0, find_frame(x_t1));  // keeps a prepared x_t1
     const int slot_t1 = upload_frame(x_t1, slot_t0);
     wait_for(slot_t0);
     wait_for(slot_t1);
@@ -165,7 +166,7 @@ class CudaBackend final : public Backend {
       append_collision_events(*scene_, x_t0, x_t1, candidates.ee_count, ee_hits, settings_.certifier,
                               settings_.thickness, stats_.narrow, events);
     });
-    std::sort(events.begin() + static_cast<std::ptrdiff_t>(first), events.end(), event_order);
+    sort_events_from(events, first);
     stats_.narrow.seconds_ccd = seconds_since(start) - stats_.narrow.seconds_certify;
   }
 
@@ -192,6 +193,11 @@ class CudaBackend final : public Backend {
     stats_.narrow.seconds_static = seconds_since(start);
   }
 
+  void prepare(const std::vector<Vec3>& x) override {
+    require_bound(x.size() == scene_->vertex_count());
+    (void)upload_frame(x, -1);
+  }
+
   const PipelineStats& stats() const override { return stats_; }
 
  private:
@@ -200,18 +206,27 @@ class CudaBackend final : public Backend {
     if (!sizes_match) throw UsageError("the CUDA back end got positions whose count differs from the scene's");
   }
 
+  // The slot that holds x, or -1.
+  int find_frame(const std::vector<Vec3>& x) const {
+    const std::size_t bytes = x.size() * sizeof(Vec3);
+    for (int s = 0; s < 2; ++s) {
+      const FrameSlot& slot = slots_[s];
+      if (slot.valid && slot.mirror.size() == x.size() &&
+          (bytes == 0 || std::memcmp(slot.mirror.data(), x.data(), bytes) == 0))
+        return s;
+    }
+    return -1;
+  }
+
   // Returns the slot that holds x, uploading it into a slot other than
-  // `keep` when no slot holds it yet.
+  // `keep` (the least recently used one when keep is -1) when no slot holds
+  // it yet.
   int upload_frame(const std::vector<Vec3>& x, int keep) {
     ++use_clock_;
     const std::size_t bytes = x.size() * sizeof(Vec3);
-    for (int s = 0; s < 2; ++s) {
-      FrameSlot& slot = slots_[s];
-      if (slot.valid && slot.mirror.size() == x.size() &&
-          (bytes == 0 || std::memcmp(slot.mirror.data(), x.data(), bytes) == 0)) {
-        slot.last_use = use_clock_;
-        return s;
-      }
+    if (const int found = find_frame(x); found >= 0) {
+      slots_[found].last_use = use_clock_;
+      return found;
     }
     int s = keep == 0 ? 1 : (keep == 1 ? 0 : (slots_[0].last_use <= slots_[1].last_use ? 0 : 1));
     FrameSlot& slot = slots_[s];

@@ -77,6 +77,11 @@ class Backend {
   virtual void collisions(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) = 0;
   /// Intersections of one frame, appended to `events` (frame = 0) in event_order.
   virtual void intersections(const std::vector<Vec3>& x, std::vector<Event>& events) = 0;
+  /// Says that positions x (#V) will be passed to a later call, so that a
+  /// back end can start moving them to where it computes while it works on
+  /// the current frame (the CUDA back end uploads them on a copy stream). x
+  /// must stay unchanged until that call. The CPU back end ignores it.
+  virtual void prepare(const std::vector<Vec3>& /*x*/) {}
   /// Counts of the last call.
   virtual const PipelineStats& stats() const = 0;
 };

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "libcd/pipeline/event_position.hpp"
@@ -69,10 +70,17 @@ void append_collisions(const Scene& scene, const std::vector<Vec3>& x_t0, const 
     stats.certified += uncertain.size();
     for (std::size_t k : uncertain) stats.certified_true += hits.results[k].answer == CcdAnswer::kYes;
   }
+  std::vector<std::size_t> colliding;
+  colliding.reserve(hits.results.size());
   for (std::size_t k = 0; k < hits.results.size(); ++k) {
-    if (hits.results[k].answer == CcdAnswer::kNo) continue;
-    events.push_back(collision_event(scene, x_t0, x_t1, hits.candidates[k], hits.results[k]));
+    if (hits.results[k].answer != CcdAnswer::kNo) colliding.push_back(k);
   }
+  const std::size_t first = events.size();
+  events.resize(first + colliding.size());
+  tbb::parallel_for(std::size_t{0}, colliding.size(), [&](std::size_t j) {
+    const std::size_t k = colliding[j];
+    events[first + j] = collision_event(scene, x_t0, x_t1, hits.candidates[k], hits.results[k]);
+  });
 }
 
 }  // namespace
@@ -132,6 +140,11 @@ Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const T
   e.b = pair.b;
   e.position = triangles_meeting_point(a, b);
   return e;
+}
+
+void sort_events_from(std::vector<Event>& events, std::size_t first) {
+  const auto begin = events.begin() + static_cast<std::ptrdiff_t>(first);
+  if (!std::is_sorted(begin, events.end(), event_order)) std::sort(begin, events.end(), event_order);
 }
 
 void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x,

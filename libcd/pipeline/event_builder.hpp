@@ -51,6 +51,13 @@ void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, 
                              std::size_t tests, CcdHits<EdgeEdgeCandidate>& hits, const Certifier* certifier,
                              double thickness, NarrowPhaseStats& stats, std::vector<Event>& events);
 
+/// Sorts events[first, end) by event_order. The collisions of a step usually
+/// arrive in that order already (candidates are sorted by the ids events are
+/// ordered by, vertex-face before edge-edge), and then nothing is moved: the
+/// check is one pass. Event keys are unique, so the result does not depend on
+/// the input order.
+void sort_events_from(std::vector<Event>& events, std::size_t first);
+
 /// An intersection event (frame 0) of an intersecting triangle pair at positions x.
 Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const TrianglePair& pair);
 

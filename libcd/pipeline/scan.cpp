@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 
 namespace snag {
 
@@ -75,15 +76,34 @@ ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSet
   const auto start = Clock::now();
   ScanResult result;
   const std::size_t frame_count = source.frame_count();
-  std::vector<Vec3> current, next;
-  std::vector<Event> found;
-  auto read = [&](std::size_t i, std::vector<Vec3>& into) {
-    const auto read_start = Clock::now();
-    source.read_frame(i, into);
-    result.read_seconds += seconds_since(read_start);
+  const bool detect = settings.collisions || settings.intersections;
+  // Frame i lives in frames[i % 3]: while frames f and f + 1 are in use,
+  // frame f + 2 is read into the third.
+  std::vector<Vec3> frames[3];
+  std::future<double> reading;  // after `frames`: joined before they go
+  auto read_ahead = [&](std::size_t i) {
+    reading = std::async(std::launch::async, [&source, &frames, i] {
+      const auto read_start = Clock::now();
+      source.read_frame(i, frames[i % 3]);
+      return seconds_since(read_start);
+    });
   };
-  if (frame_count > 0) read(0, current);
+  std::vector<Event> found;
+  if (frame_count > 0) {
+    const auto read_start = Clock::now();
+    source.read_frame(0, frames[0]);
+    result.read_seconds += seconds_since(read_start);
+    if (frame_count > 1 && detect) read_ahead(1);
+  }
   for (std::size_t f = 0; f < frame_count; ++f) {
+    const std::vector<Vec3>& current = frames[f % 3];
+    const std::vector<Vec3>& next = frames[(f + 1) % 3];
+    const bool has_next = f + 1 < frame_count && detect;
+    if (has_next) {
+      result.read_seconds += reading.get();
+      if (settings.collisions) backend.prepare(next);
+      if (f + 2 < frame_count) read_ahead(f + 2);
+    }
     FrameSummary summary;
     summary.frame = source.frame_index(f);
     if (settings.intersections) {
@@ -94,8 +114,6 @@ ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       summary.intersections = found.size();
       result.events.insert(result.events.end(), found.begin(), found.end());
     }
-    const bool has_next = f + 1 < frame_count;
-    if (has_next && (settings.collisions || settings.intersections)) read(f + 1, next);
     if (settings.collisions && has_next) {
       found.clear();
       backend.collisions(current, next, found);
@@ -110,7 +128,6 @@ ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       result.events.insert(result.events.end(), found.begin(), found.end());
     }
     result.frames.push_back(summary);
-    std::swap(current, next);
     if (progress) progress(f + 1, frame_count);
   }
   std::stable_sort(result.events.begin(), result.events.end(), event_order);

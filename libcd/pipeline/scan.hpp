@@ -1,6 +1,9 @@
-// The scan: streams a cache's frames through a back end, two frames at a
-// time, and gathers events and stage counts. Frame f's intersections and the
-// collisions of the step f -> f + 1 are found while frames f and f + 1 are held.
+// The scan: streams a cache's frames through a back end and gathers events
+// and stage counts. Frame f's intersections and the collisions of the step
+// f -> f + 1 are found while frames f and f + 1 are held; frame f + 2 is read
+// meanwhile on another thread, and frame f + 1 is handed to the back end's
+// prepare() before the work on frame f starts, so reading and uploading
+// overlap detection.
 #pragma once
 
 #include <cstddef>
@@ -32,7 +35,7 @@ struct ScanResult {
   std::vector<Event> events;  ///< in event_order
   std::vector<FrameSummary> frames;
   PipelineStats stats;        ///< summed over all frames and steps
-  double read_seconds = 0;    ///< time spent reading frames
+  double read_seconds = 0;    ///< time spent reading frames (overlapping detection)
   double total_seconds = 0;
 };
 

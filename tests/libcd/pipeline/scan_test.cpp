@@ -1,0 +1,111 @@
+// scan_cache reads frame f + 2 on another thread and hands frame f + 1 to the
+// back end's prepare() while frame f is worked on: the back end must still see
+// every frame, in order, unchanged from prepare() to its use, and a read error
+// must come out of the scan as the source threw it.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "libcd/core/error.hpp"
+#include "libcd/pipeline/scan.hpp"
+
+namespace snag {
+namespace {
+
+/// Frames of one triangle whose first vertex's x is the frame number; frame
+/// `failing` throws InputError instead.
+class CountingSource final : public FrameSource {
+ public:
+  CountingSource(std::size_t frames, std::size_t failing)
+      : scene_({make_object("tri", 3, {Triangle{0, 1, 2}})}), frames_(frames), failing_(failing) {}
+  const Scene& scene() const override { return scene_; }
+  std::size_t frame_count() const override { return frames_; }
+  std::size_t frame_index(std::size_t i) const override { return 10 + i; }
+  void read_frame(std::size_t i, std::vector<Vec3>& positions) const override {
+    if (i == failing_) throw InputError({"frames.pc2", 0, i}, "truncated");
+    positions = {Vec3{double(i), 0, 0}, Vec3{double(i), 1, 0}, Vec3{double(i), 0, 1}};
+  }
+  std::string description() const override { return "counting frames"; }
+
+ private:
+  Scene scene_;
+  std::size_t frames_, failing_;
+};
+
+/// Records the frame numbers of every call, and checks that a prepared frame
+/// is the one the next collisions() call gets as x_t1, unchanged.
+class RecordingBackend final : public Backend {
+ public:
+  std::string name() const override { return "recording"; }
+  void bind(const Scene&, const BackendSettings&) override {}
+  void collisions(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>&) override {
+    calls.push_back("c" + std::to_string(int(x_t0[0].x)) + "-" + std::to_string(int(x_t1[0].x)));
+    EXPECT_EQ(prepared_address, &x_t1) << "x_t1 is the prepared vector";
+    EXPECT_TRUE(prepared_copy == x_t1) << "the prepared frame changed before its use";
+  }
+  void intersections(const std::vector<Vec3>& x, std::vector<Event>& events) override {
+    calls.push_back("i" + std::to_string(int(x[0].x)));
+    Event e;
+    e.kind = EventKind::kIntersection;
+    events.push_back(e);
+  }
+  void prepare(const std::vector<Vec3>& x) override {
+    calls.push_back("p" + std::to_string(int(x[0].x)));
+    prepared_address = &x;
+    prepared_copy = x;
+  }
+  const PipelineStats& stats() const override { return stats_; }
+
+  std::vector<std::string> calls;
+  const std::vector<Vec3>* prepared_address = nullptr;
+  std::vector<Vec3> prepared_copy;
+
+ private:
+  PipelineStats stats_;
+};
+
+TEST(ScanCache, SeesEveryFrameInOrderWithTheNextOnePreparedFirst) {
+  const CountingSource source(5, 99);
+  RecordingBackend backend;
+  const ScanResult result = scan_cache(source, backend, ScanSettings{});
+  const std::vector<std::string> expected = {"p1", "i0", "c0-1", "p2", "i1", "c1-2", "p3", "i2",
+                                             "c2-3", "p4", "i3", "c3-4", "i4"};
+  EXPECT_EQ(backend.calls, expected);
+  ASSERT_EQ(result.frames.size(), 5u);
+  for (std::size_t f = 0; f < 5; ++f) {
+    EXPECT_EQ(result.frames[f].frame, 10 + f);
+    EXPECT_EQ(result.frames[f].intersections, 1u);
+  }
+  EXPECT_EQ(result.events.size(), 5u);
+}
+
+TEST(ScanCache, IntersectionsOnlyPrepareNothing) {
+  const CountingSource source(3, 99);
+  RecordingBackend backend;
+  ScanSettings settings;
+  settings.collisions = false;
+  (void)scan_cache(source, backend, settings);
+  const std::vector<std::string> expected = {"i0", "i1", "i2"};
+  EXPECT_EQ(backend.calls, expected);
+}
+
+TEST(ScanCache, AReadErrorAheadComesOutOfTheScan) {
+  for (std::size_t failing : {std::size_t(1), std::size_t(3), std::size_t(5)}) {
+    SCOPED_TRACE(failing);
+    const CountingSource source(6, failing);
+    RecordingBackend backend;
+    try {
+      (void)scan_cache(source, backend, ScanSettings{});
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.where().frame, failing);
+      EXPECT_EQ(error.message(), "truncated");
+    }
+    // Nothing past the frame before the bad one was worked on.
+    for (const std::string& call : backend.calls) EXPECT_LT(call.back() - '0', int(failing)) << call;
+  }
+}
+
+}  // namespace
+}  // namespace snag
