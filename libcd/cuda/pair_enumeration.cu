@@ -36,42 +36,66 @@ __global__ void cell_tests_kernel(const std::uint64_t* first, std::size_t cells,
   else if (c == cells) tests[c] = 0;
 }
 
-/// Work item w: its cell by binary search, its pair by the triangular
-/// inversion, then the CPU's filters in the CPU's order.
+__global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t* cell_leaves, std::size_t count,
+                                         RegisteredLeaf* out) {
+  const std::uint64_t r = thread_item();
+  if (r >= count) return;
+  const Leaf& leaf = leaves[cell_leaves[r]];
+  out[r] = RegisteredLeaf{leaf.triangle, leaf.cells};
+}
+
+/// The tests, one work item per thread and round: work item w finds its cell
+/// by binary search and its pair by the triangular inversion, then runs the
+/// CPU's filters in the CPU's order. The grid is sized to fill the device
+/// once and strides over the work items, so the counters are summed in
+/// registers and added with one atomic per warp at the end; kept (and, with
+/// count_culled, culled) root pairs are appended with one atomic per warp and
+/// round. Every lane runs every round, so warp-wide operations see full warps.
 __global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test, std::size_t cells,
-                            const std::uint64_t* first, const std::uint64_t* cell_ids, const std::uint32_t* cell_leaves,
-                            const Leaf* leaves, GridSpec grid, const Dop18* triangle_dops, std::uint64_t* kept,
-                            std::uint64_t kept_capacity, std::uint64_t* culled, std::uint64_t culled_capacity,
-                            unsigned long long* counters) {
-  const std::uint64_t w = thread_item();
-  unsigned same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0;
-  bool keep = false, cull = false;
-  std::uint64_t key = 0;
-  if (w < tests) {
-    const std::uint64_t c = cell_of_work_item(first_test, cells, w);
-    const std::uint64_t n = first[c + 1] - first[c];
-    std::uint64_t i = 0, j = 0;
-    pair_from_index(n, w - first_test[c], i, j);
-    const Leaf& a = leaves[cell_leaves[first[c] + i]];
-    const Leaf& b = leaves[cell_leaves[first[c] + j]];
-    if (a.triangle.root == b.triangle.root) {
-      same_root = 1;
-    } else if (!slots_nested(a.triangle, b.triangle)) {
-      time_slots = 1;
-    } else {
-      switch (cell_pair_verdict(grid, a.cells, b.cells, cell_ids[c])) {
-        case CellPairVerdict::kSkipControlBits: control_bits = 1; break;
-        case CellPairVerdict::kSkipExtendedBits: extended = 1; break;
-        case CellPairVerdict::kTestFallback: fallback = 1; [[fallthrough]];
-        case CellPairVerdict::kTest: {
-          passed = 1;
-          const Index ra = a.triangle.root, rb = b.triangle.root;
-          key = pack_pair(ra, rb);
-          if (dop_overlap(triangle_dops[ra], triangle_dops[rb])) keep = true;
-          else cull = true;
-          break;
+                            const std::uint64_t* first, const std::uint64_t* cell_ids,
+                            const RegisteredLeaf* registered, GridSpec grid, const Dop18* triangle_dops,
+                            std::uint64_t* kept, std::uint64_t kept_capacity, bool count_culled,
+                            std::uint64_t* culled, std::uint64_t culled_capacity, unsigned long long* counters) {
+  unsigned same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culls = 0;
+  const std::uint64_t stride = static_cast<std::uint64_t>(gridDim.x) * blockDim.x;
+  for (std::uint64_t base = static_cast<std::uint64_t>(blockIdx.x) * blockDim.x; base < tests; base += stride) {
+    const std::uint64_t w = base + threadIdx.x;
+    bool keep = false, cull = false;
+    std::uint64_t key = 0;
+    if (w < tests) {
+      const std::uint64_t c = cell_of_work_item(first_test, cells, w);
+      const std::uint64_t n = first[c + 1] - first[c];
+      std::uint64_t i = 0, j = 0;
+      pair_from_index(n, w - first_test[c], i, j);
+      const RegisteredLeaf& a = registered[first[c] + i];
+      const RegisteredLeaf& b = registered[first[c] + j];
+      if (a.triangle.root == b.triangle.root) {
+        ++same_root;
+      } else if (!slots_nested(a.triangle, b.triangle)) {
+        ++time_slots;
+      } else {
+        switch (cell_pair_verdict(grid, a.cells, b.cells, cell_ids[c])) {
+          case CellPairVerdict::kSkipControlBits: ++control_bits; break;
+          case CellPairVerdict::kSkipExtendedBits: ++extended; break;
+          case CellPairVerdict::kTestFallback: ++fallback; [[fallthrough]];
+          case CellPairVerdict::kTest: {
+            ++passed;
+            const Index ra = a.triangle.root, rb = b.triangle.root;
+            key = pack_pair(ra, rb);
+            if (dop_overlap(triangle_dops[ra], triangle_dops[rb])) keep = true;
+            else cull = true;
+            break;
+          }
         }
       }
+    }
+    const unsigned long long kept_slot = detail::warp_append(keep, &counters[kKept]);
+    if (keep && kept_slot < kept_capacity) kept[kept_slot] = key;
+    if (count_culled) {
+      const unsigned long long culled_slot = detail::warp_append(cull, &counters[kCulled]);
+      if (cull && culled_slot < culled_capacity) culled[culled_slot] = key;
+    } else {
+      culls += cull ? 1 : 0;
     }
   }
   detail::warp_count(same_root, &counters[kSameRoot]);
@@ -80,10 +104,7 @@ __global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test
   detail::warp_count(extended, &counters[kExtended]);
   detail::warp_count(fallback, &counters[kFallback]);
   detail::warp_count(passed, &counters[kPassed]);
-  const unsigned long long kept_slot = detail::warp_append(keep, &counters[kKept]);
-  if (keep && kept_slot < kept_capacity) kept[kept_slot] = key;
-  const unsigned long long culled_slot = detail::warp_append(cull, &counters[kCulled]);
-  if (cull && culled_slot < culled_capacity) culled[culled_slot] = key;
+  detail::warp_count(culls, &counters[kCulled]);
 }
 
 __global__ void unpack_pairs_kernel(const std::uint64_t* keys, std::size_t n, TrianglePair* pairs) {
@@ -129,6 +150,13 @@ void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists,
   p.counters.resize(kCounters + 1);
   p.pair_count = 0;
   p.pairs.resize(0);
+  const std::size_t registrations = lists.leaves.size();
+  p.registered.resize(registrations);
+  if (registrations > 0) {
+    gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
+        leaves, lists.leaves.data(), registrations, p.registered.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+  }
   p.cell_tests.resize(cells + 1);
   p.first_test.resize(cells + 1);
   cell_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(lists.first.data(), cells,
@@ -151,6 +179,15 @@ void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists,
   // the tests; grown and run again when a count overflows.
   unsigned long long counts[kCounters] = {};
   if (tests > 0) {
+    // As many blocks as the device holds at once (the kernel strides).
+    int device = 0, sms = 0, per_sm = 0;
+    SNAG_CUDA_CHECK(cudaGetDevice(&device));
+    SNAG_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
+    SNAG_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, test_kernel, detail::kBlockSize, 0));
+    const std::uint64_t resident_blocks = static_cast<std::uint64_t>(std::max(1, sms * std::max(1, per_sm)));
+    // A warp's per-thread counts are summed in 32 bits: at most 2^27 rounds.
+    if (tests / (resident_blocks * detail::kBlockSize) >= (std::uint64_t{1} << 27))
+      throw CudaError("broad phase: too many pair tests for one launch", 0);
     std::size_t kept_room = std::max<std::size_t>(p.kept.capacity(), std::min<std::uint64_t>(tests, 1 << 20));
     std::size_t culled_room =
         count_culled ? std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(tests, 1 << 18)) : 0;
@@ -158,11 +195,11 @@ void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists,
       p.kept.resize(kept_room);
       p.culled.resize(culled_room);
       p.counters.fill_zero();
-      const std::uint64_t blocks = (tests + detail::kBlockSize - 1) / detail::kBlockSize;
-      if (blocks > 0x7fffffffull) throw CudaError("broad phase: too many pair tests for one launch", 0);
+      const std::uint64_t blocks = std::min<std::uint64_t>((tests + detail::kBlockSize - 1) / detail::kBlockSize,
+                                                           resident_blocks);
       test_kernel<<<static_cast<unsigned>(blocks), detail::kBlockSize, 0, stream>>>(
-          tests, p.first_test.data(), cells, lists.first.data(), lists.cell_ids.data(), lists.leaves.data(), leaves,
-          grid, triangle_dops, p.kept.data(), kept_room, p.culled.data(), culled_room, p.counters.data());
+          tests, p.first_test.data(), cells, lists.first.data(), lists.cell_ids.data(), p.registered.data(), grid,
+          triangle_dops, p.kept.data(), kept_room, count_culled, p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();
       p.counters.download(counts, kCounters);
       SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));

@@ -1,7 +1,9 @@
 // One candidate test per thread on the GPU, mirroring step 5-6 of
 // libcd/broad_phase/virtual_subdivision_grid.cpp: per-cell pair counts are
-// prefix-summed, each thread finds its cell by binary search and its pair by
-// inverting the triangular numbering (grid/pair_index.hpp), applies the same
+// prefix-summed, each thread finds its cell by binary search (among the few
+// cells its block spans, which one thread of the block finds first) and its
+// pair by inverting the triangular numbering (grid/pair_index.hpp), reads the
+// two leaves from a copy of them in cell order (coalesced), applies the same
 // filters (same root, time slots, control bits and extended control bits,
 // root 18-DOPs), and appends the root pair; a device sort + unique gives the
 // exact set of triangle pairs, ordered as the CPU's.
@@ -18,8 +20,16 @@
 
 namespace snag {
 
+/// What the tests read of a leaf, copied in registration order (cell by
+/// cell), so that the leaves of one cell lie side by side.
+struct RegisteredLeaf {
+  VirtualTriangle triangle;  ///< root and time slot are read
+  LeafCells cells;
+};
+
 /// Buffers of the pair stage, reused across calls (they only grow).
 struct DevicePairs {
+  DeviceBuffer<RegisteredLeaf> registered;
   DeviceBuffer<std::uint64_t> cell_tests, first_test;
   DeviceBuffer<std::uint64_t> kept, culled, sorted, unique_keys;
   DeviceBuffer<TrianglePair> pairs;  ///< the result: unique root pairs, ascending
@@ -28,7 +38,8 @@ struct DevicePairs {
   std::size_t pair_count = 0;
 
   explicit DevicePairs(cudaStream_t stream)
-      : cell_tests(0, stream), first_test(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream),
+      : registered(0, stream),
+        cell_tests(0, stream), first_test(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream),
         unique_keys(0, stream), pairs(0, stream), counters(0, stream), temp(0, stream) {}
 };
 
