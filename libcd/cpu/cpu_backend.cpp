@@ -90,7 +90,9 @@ class CpuBackend final : public Backend {
       for (std::size_t i = 0; i < pairs_.size(); ++i) {
         if (hit[i]) intersecting.push_back(pairs_[i]);
       }
+      const auto events_start = std::chrono::steady_clock::now();
       append_intersection_events(*scene_, x, intersecting, events);
+      stats_.narrow.seconds_static_events = seconds_since(events_start);
       stats_.narrow.triangles_intersecting += intersecting.size();
       stats_.narrow.seconds_static = seconds_since(start);
     });
@@ -115,8 +117,12 @@ class CpuBackend final : public Backend {
       hits.candidates.push_back(candidates[i]);
       hits.results.push_back(results[i]);
     }
+    const double certify_before = stats_.narrow.seconds_certify;
+    const auto events_start = std::chrono::steady_clock::now();
     append_collision_events(*scene_, x_t0, x_t1, candidates.size(), hits, settings_.certifier, settings_.thickness,
                             stats_.narrow, events);
+    stats_.narrow.seconds_ccd_events +=
+        seconds_since(events_start) - (stats_.narrow.seconds_certify - certify_before);
   }
 
   void narrow_vertex_face(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {

@@ -154,12 +154,16 @@ class CudaBackend final : public Backend {
     std::vector<CcdHit> vf_answers, ee_answers;
     CcdHits<VertexFaceCandidate> vf_hits;
     CcdHits<EdgeEdgeCandidate> ee_hits;
+    narrow_.reset_timings();
     narrow_.vertex_face(d_x_t0, d_x_t1, triangles_.data(), candidates.vf, candidates.vf_count, settings_.ccd,
                         CcdPasses::kScreenThenSearch, vf_answers, &vf_hits.candidates);
     narrow_.edge_edge(d_x_t0, d_x_t1, edges_.data(), candidates.ee, candidates.ee_count, settings_.ccd,
                       CcdPasses::kScreenThenSearch, ee_answers, &ee_hits.candidates);
+    const NarrowPhaseTimings& device = narrow_.timings();
+    stats_.narrow.seconds_ccd_device = 1e-3 * (device.screen_ms + device.search_ms + device.compact_ms);
     for (const CcdHit& hit : vf_answers) vf_hits.results.push_back(hit.result);
     for (const CcdHit& hit : ee_answers) ee_hits.results.push_back(hit.result);
+    const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] {
       append_collision_events(*scene_, x_t0, x_t1, candidates.vf_count, vf_hits, settings_.certifier,
                               settings_.thickness, stats_.narrow, events);
@@ -167,6 +171,7 @@ class CudaBackend final : public Backend {
                               settings_.thickness, stats_.narrow, events);
     });
     sort_events_from(events, first);
+    stats_.narrow.seconds_ccd_events = seconds_since(events_start) - stats_.narrow.seconds_certify;
     stats_.narrow.seconds_ccd = seconds_since(start) - stats_.narrow.seconds_certify;
   }
 
@@ -184,11 +189,15 @@ class CudaBackend final : public Backend {
     std::vector<std::uint32_t> hits;
     std::vector<TrianglePair> hit_pairs;
     TrianglePairCounts counts;
+    narrow_.reset_timings();
     narrow_.triangle_pairs(d_x, triangles_.data(), candidates.pairs, candidates.pair_count, hits, counts, &hit_pairs);
+    stats_.narrow.seconds_static_device = 1e-3 * (narrow_.timings().static_ms + narrow_.timings().compact_ms);
     stats_.narrow.predicate_calls = counts.predicate_calls;
     stats_.narrow.predicate_exact = counts.predicate_exact;
     stats_.narrow.triangle_tests = candidates.pair_count;
+    const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] { append_intersection_events(*scene_, x, hit_pairs, events); });
+    stats_.narrow.seconds_static_events = seconds_since(events_start);
     stats_.narrow.triangles_intersecting += hits.size();
     stats_.narrow.seconds_static = seconds_since(start);
   }

@@ -59,6 +59,10 @@ void add_narrow(NarrowPhaseStats& total, const NarrowPhaseStats& s) {
   total.seconds_ccd += s.seconds_ccd;
   total.seconds_certify += s.seconds_certify;
   total.seconds_static += s.seconds_static;
+  total.seconds_ccd_events += s.seconds_ccd_events;
+  total.seconds_static_events += s.seconds_static_events;
+  total.seconds_ccd_device += s.seconds_ccd_device;
+  total.seconds_static_device += s.seconds_static_device;
 }
 
 }  // namespace
