@@ -116,8 +116,9 @@ StepTimes time_step(Backend& backend, const std::string& broad_name, const Scene
   times.backend = backend.name();
   times.broad_phase = broad_name;
   times.runs = runs;
+  std::vector<Event> events;  // reused, as scan_cache reuses its own
   for (int run = 0; run < warmup + runs; ++run) {
-    std::vector<Event> events;
+    events.clear();
     const auto start = Clock::now();
     backend.collisions(x_t0, x_t1, events);
     const PipelineStats ccd = backend.stats();

@@ -151,9 +151,17 @@ class CudaBackend final : public Backend {
 
     const auto start = std::chrono::steady_clock::now();
     const std::size_t first = events.size();
-    std::vector<CcdHit> vf_answers, ee_answers;
-    CcdHits<VertexFaceCandidate> vf_hits;
-    CcdHits<EdgeEdgeCandidate> ee_hits;
+    // Host vectors are members, cleared and refilled: their pages stay mapped.
+    std::vector<CcdHit>& vf_answers = vf_answers_;
+    std::vector<CcdHit>& ee_answers = ee_answers_;
+    CcdHits<VertexFaceCandidate>& vf_hits = vf_hits_;
+    CcdHits<EdgeEdgeCandidate>& ee_hits = ee_hits_;
+    vf_answers.clear();
+    ee_answers.clear();
+    vf_hits.candidates.clear();
+    vf_hits.results.clear();
+    ee_hits.candidates.clear();
+    ee_hits.results.clear();
     narrow_.reset_timings();
     narrow_.vertex_face(d_x_t0, d_x_t1, triangles_.data(), candidates.vf, candidates.vf_count, settings_.ccd,
                         CcdPasses::kScreenThenSearch, vf_answers, &vf_hits.candidates);
@@ -186,8 +194,10 @@ class CudaBackend final : public Backend {
     stats_.static_broad = static_broad_->stats();
 
     const auto start = std::chrono::steady_clock::now();
-    std::vector<std::uint32_t> hits;
-    std::vector<TrianglePair> hit_pairs;
+    std::vector<std::uint32_t>& hits = static_hits_;
+    std::vector<TrianglePair>& hit_pairs = static_hit_pairs_;
+    hits.clear();
+    hit_pairs.clear();
     TrianglePairCounts counts;
     narrow_.reset_timings();
     narrow_.triangle_pairs(d_x, triangles_.data(), candidates.pairs, candidates.pair_count, hits, counts, &hit_pairs);
@@ -270,6 +280,11 @@ class CudaBackend final : public Backend {
   CudaNarrowPhase narrow_;
   FrameSlot slots_[2];
   unsigned long long use_clock_ = 0;
+  std::vector<CcdHit> vf_answers_, ee_answers_;
+  CcdHits<VertexFaceCandidate> vf_hits_;
+  CcdHits<EdgeEdgeCandidate> ee_hits_;
+  std::vector<std::uint32_t> static_hits_;
+  std::vector<TrianglePair> static_hit_pairs_;
   PipelineStats stats_;
 };
 

@@ -224,16 +224,16 @@ std::size_t CudaNarrowPhase::select_flagged(std::size_t count) {
 }
 
 template <class T>
-void CudaNarrowPhase::download_selected(const T* items, std::size_t count, std::vector<T>& out) {
-  if (count == 0) return;
+const T* CudaNarrowPhase::stage_selected(const T* items, std::size_t count) {
+  if (count == 0) return nullptr;
   resize_or_throw(gathered_, count * sizeof(T), "gathered hits");
-  T* staged = reinterpret_cast<T*>(gathered_.data());  // cudaMallocAsync memory: aligned for any T
-  gather_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(items, selected_.data(), count, staged);
+  T* gathered = reinterpret_cast<T*>(gathered_.data());  // cudaMallocAsync memory: aligned for any T
+  gather_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(items, selected_.data(), count, gathered);
   SNAG_CUDA_CHECK_LAUNCH();
-  const std::size_t first = out.size();
-  out.resize(first + count);
-  SNAG_CUDA_CHECK(
-      cudaMemcpyAsync(out.data() + first, staged, count * sizeof(T), cudaMemcpyDeviceToHost, stream_));
+  host_gathered_.resize(count * sizeof(T));
+  T* staged = reinterpret_cast<T*>(host_gathered_.data());  // cudaMallocHost memory: aligned for any T
+  SNAG_CUDA_CHECK(cudaMemcpyAsync(staged, gathered, count * sizeof(T), cudaMemcpyDeviceToHost, stream_));
+  return staged;
 }
 
 template <class Query>
@@ -278,9 +278,11 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   const std::size_t survivors = select_flagged(count);
   compacted.record(stream_);
 
-  std::vector<std::uint32_t> indices(survivors);
-  std::vector<CcdResult> results(survivors);
-  std::vector<typename Query::Candidate> candidates;
+  host_indices_.resize(survivors);
+  host_results_.resize(survivors);
+  const std::uint32_t* indices = host_indices_.data();
+  const CcdResult* results = host_results_.data();
+  const typename Query::Candidate* candidates = nullptr;
   if (survivors > 0) {
     if (screen) {
       resize_or_throw(searched_results_, survivors, "CCD search results");
@@ -290,16 +292,16 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
           searched_flags_.data());
       SNAG_CUDA_CHECK_LAUNCH();
       searched.record(stream_);
-      searched_results_.download(results.data(), survivors);
+      searched_results_.download(host_results_.data(), survivors);
     } else {
       resize_or_throw(selected_results_, survivors, "CCD hits");
       select_flagged_into(results_.data(), flags_.data(), selected_results_.data(), selected_count_.data(), count,
                           temp_, stream_);
       searched.record(stream_);
-      selected_results_.download(results.data(), survivors);
+      selected_results_.download(host_results_.data(), survivors);
     }
-    selected_.download(indices.data(), survivors);
-    if (hit_candidates != nullptr) download_selected(query.candidates, survivors, candidates);
+    selected_.download(host_indices_.data(), survivors);
+    if (hit_candidates != nullptr) candidates = stage_selected(query.candidates, survivors);
   } else {
     searched.record(stream_);
   }
@@ -360,16 +362,16 @@ void CudaNarrowPhase::triangle_pairs_chunk(const Vec3* x, const Triangle* triang
   SNAG_CUDA_CHECK_LAUNCH();
   tested.record(stream_);
   const std::size_t intersecting = select_flagged(count);
-  const std::size_t old_size = hits.size();
-  hits.resize(old_size + intersecting);
-  selected_.download(hits.data() + old_size, intersecting);
-  if (hit_pairs != nullptr) download_selected(pairs, intersecting, *hit_pairs);
+  host_indices_.resize(intersecting);
+  selected_.download(host_indices_.data(), intersecting);
+  const TrianglePair* staged_pairs = hit_pairs != nullptr ? stage_selected(pairs, intersecting) : nullptr;
   unsigned long long sums[2] = {0, 0};
   counters_.download(sums, 2);
   CudaEvent done;
   done.record(stream_);
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
-  for (std::size_t k = old_size; k < hits.size(); ++k) hits[k] += static_cast<std::uint32_t>(first);
+  for (std::size_t k = 0; k < intersecting; ++k) hits.push_back(static_cast<std::uint32_t>(first) + host_indices_[k]);
+  if (hit_pairs != nullptr) hit_pairs->insert(hit_pairs->end(), staged_pairs, staged_pairs + intersecting);
   counts.predicate_calls += sums[0];
   counts.predicate_exact += sums[1];
   timings_.static_ms += CudaEvent::elapsed_ms(start, tested);

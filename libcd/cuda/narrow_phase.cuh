@@ -134,9 +134,11 @@ class CudaNarrowPhase {
                             std::size_t first, std::vector<std::uint32_t>& hits, TrianglePairCounts& counts,
                             std::vector<TrianglePair>* hit_pairs);
   std::size_t select_flagged(std::size_t count);
-  /// Copies items[selected_[k]] for k < count to the host, appending to `out`.
+  /// Gathers items[selected_[k]] for k < count on the device and queues their
+  /// copy to pinned host memory; the returned array is valid once the stream
+  /// is synchronised, until the next call.
   template <class T>
-  void download_selected(const T* items, std::size_t count, std::vector<T>& out);
+  const T* stage_selected(const T* items, std::size_t count);
 
   cudaStream_t stream_;
   DeviceBuffer<CcdResult> results_, searched_results_;
@@ -146,7 +148,11 @@ class CudaNarrowPhase {
   DeviceBuffer<long long> selected_count_;
   DeviceBuffer<unsigned long long> counters_;
   DeviceBuffer<unsigned char> temp_;
-  DeviceBuffer<unsigned char> gathered_;  ///< download_selected's staging, any item type
+  DeviceBuffer<unsigned char> gathered_;  ///< stage_selected's device staging, any item type
+  // Pinned host copies of a round's results, reused from call to call.
+  PinnedBuffer<std::uint32_t> host_indices_;
+  PinnedBuffer<CcdResult> host_results_;
+  PinnedBuffer<unsigned char> host_gathered_;
   NarrowPhaseTimings timings_;
   std::size_t chunk_size_ = kDefaultChunkSize;
 };
