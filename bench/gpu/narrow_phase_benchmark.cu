@@ -54,9 +54,9 @@ NarrowPhaseBenchmark benchmark_narrow_phase(const Scene& scene, const std::vecto
   result.vf_candidates = vf.size();
   result.ee_candidates = ee.size();
   result.triangle_pairs = pairs.size();
-  std::vector<double> two_pass, one_pass, static_ms;
+  std::vector<double> two_pass, one_pass, screen_only, static_ms;
   for (int run = 0; run < warmup + runs; ++run) {
-    for (const CcdPasses passes : {CcdPasses::kScreenThenSearch, CcdPasses::kSinglePass}) {
+    for (const CcdPasses passes : {CcdPasses::kScreenThenSearch, CcdPasses::kSinglePass, CcdPasses::kScreenOnly}) {
       std::vector<CcdHit> hits;
       narrow.reset_timings();
       narrow.vertex_face(d_x_t0.data(), d_x_t1.data(), d_triangles.data(), d_vf.data(), vf.size(), settings, passes,
@@ -68,8 +68,12 @@ NarrowPhaseBenchmark benchmark_narrow_phase(const Scene& scene, const std::vecto
       if (passes == CcdPasses::kScreenThenSearch) {
         two_pass.push_back(ms);
         result.searched = t.searched;
-      } else {
+      } else if (passes == CcdPasses::kSinglePass) {
         one_pass.push_back(ms);
+      } else {
+        screen_only.push_back(ms);
+        result.left_undecided = 0;
+        for (const CcdHit& hit : hits) result.left_undecided += hit.result.answer == CcdAnswer::kUncertain;
       }
     }
     std::vector<std::uint32_t> hits;
@@ -80,6 +84,7 @@ NarrowPhaseBenchmark benchmark_narrow_phase(const Scene& scene, const std::vecto
   }
   result.two_pass_ms = median(two_pass);
   result.one_pass_ms = median(one_pass);
+  result.screen_only_ms = median(screen_only);
   result.static_ms = median(static_ms);
   if (result.two_pass_ms > 0)
     result.ccd_tests_per_second = 1e3 * static_cast<double>(vf.size() + ee.size()) / result.two_pass_ms;

@@ -15,6 +15,8 @@ struct NarrowPhaseBenchmark {
   std::size_t searched = 0;   ///< candidates left for the search pass after the screen
   double two_pass_ms = 0;     ///< median, VF + EE, screen then search (kernels, compaction, downloads)
   double one_pass_ms = 0;     ///< median, VF + EE, single pass
+  double screen_only_ms = 0;  ///< median, VF + EE, the screen alone (the CUDA back end's GPU part)
+  std::size_t left_undecided = 0;  ///< candidates the screen alone leaves to the caller
   double static_ms = 0;       ///< median, triangle pairs
   double ccd_tests_per_second = 0, static_tests_per_second = 0;  ///< of the two-pass CCD and the static test
 };

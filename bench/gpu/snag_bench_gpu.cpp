@@ -322,6 +322,8 @@ int run(int argc, char** argv) {
                          {"screened_then_searched", narrow.searched},
                          {"two_pass_ccd_ms", narrow.two_pass_ms},
                          {"one_pass_ccd_ms", narrow.one_pass_ms},
+                         {"screen_only_ccd_ms", narrow.screen_only_ms},
+                         {"screen_left_undecided", narrow.left_undecided},
                          {"static_ms", narrow.static_ms},
                          {"ccd_tests_per_second", narrow.ccd_tests_per_second},
                          {"static_tests_per_second", narrow.static_tests_per_second}};
@@ -401,9 +403,10 @@ int run(int argc, char** argv) {
               "(collisions 92->93 + intersections of 93); frames stay on the device between runs\n",
               device.name.c_str(), options.runs, options.large_runs);
   std::printf("narrow phase alone (CUDA events): CCD %zu VF + %zu EE candidates: screen+search %.3f ms "
-              "(%zu searched), single pass %.3f ms, %.3g tests/s; static %zu pairs %.3f ms, %.3g tests/s\n",
+              "(%zu searched), single pass %.3f ms, %.3g tests/s; screen alone %.3f ms (%zu left undecided); "
+              "static %zu pairs %.3f ms, %.3g tests/s\n",
               narrow.vf_candidates, narrow.ee_candidates, narrow.two_pass_ms, narrow.searched, narrow.one_pass_ms,
-              narrow.ccd_tests_per_second, narrow.triangle_pairs, narrow.static_ms, narrow.static_tests_per_second);
+              narrow.ccd_tests_per_second, narrow.screen_only_ms, narrow.left_undecided, narrow.triangle_pairs, narrow.static_ms, narrow.static_tests_per_second);
   std::printf("%-26s %-5s %-9s %9s %9s %9s %9s %9s %9s %10s %10s %9s %6s %6s %9s\n", "scene", "back", "broad",
               "total", "ccd_broad", "ccd_narr", "certify", "dcd_broad", "dcd_narr", "vf", "ee", "pairs", "coll",
               "inter", "peak_MiB");

@@ -10,9 +10,7 @@
 #include <chrono>
 
 #include "libcd/core/error.hpp"
-#include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/triangle_triangle.hpp"
-#include "libcd/narrow_phase/vertex_face_ccd.hpp"
 #include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/event_builder.hpp"
 
@@ -126,19 +124,13 @@ class CpuBackend final : public Backend {
   }
 
   void narrow_vertex_face(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    const CcdSettings ccd = settings_.ccd;
-    run_ccd(x_t0, x_t1, vf_, [&](const VertexFaceCandidate& c) {
-      const std::array<Vec3, 8> p = vertex_face_points(*scene_, x_t0, x_t1, c);
-      return vertex_face_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], ccd);
-    }, events);
+    run_ccd(x_t0, x_t1, vf_, [&](const VertexFaceCandidate& c) { return ccd_test(*scene_, x_t0, x_t1, c, settings_.ccd); },
+            events);
   }
 
   void narrow_edge_edge(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    const CcdSettings ccd = settings_.ccd;
-    run_ccd(x_t0, x_t1, ee_, [&](const EdgeEdgeCandidate& c) {
-      const std::array<Vec3, 8> p = edge_edge_points(*scene_, x_t0, x_t1, c);
-      return edge_edge_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], ccd);
-    }, events);
+    run_ccd(x_t0, x_t1, ee_, [&](const EdgeEdgeCandidate& c) { return ccd_test(*scene_, x_t0, x_t1, c, settings_.ccd); },
+            events);
   }
 
   const Scene* scene_ = nullptr;

@@ -12,7 +12,10 @@
 //    positions in the slots; its candidates stay on the device.
 //  - narrow phase: libcd/cuda/narrow_phase.cuh (same functions as the CPU),
 //    reading the broad phase's candidates in place; only the hits, and the
-//    candidates they belong to, come back to the host.
+//    candidates they belong to, come back to the host. The GPU runs the
+//    screen (early exits and the search over time); the few candidates it
+//    leaves undecided get the whole test on the CPU (search_uncertain_hits),
+//    where one long (t, u, v) search does not hold up a kernel.
 //  - certification: the answers left uncertain go to settings.certifier on
 //    the CPU, as in the CPU back end.
 //  - events: built on the host from the same doubles with the same formulas
@@ -164,13 +167,18 @@ class CudaBackend final : public Backend {
     ee_hits.results.clear();
     narrow_.reset_timings();
     narrow_.vertex_face(d_x_t0, d_x_t1, triangles_.data(), candidates.vf, candidates.vf_count, settings_.ccd,
-                        CcdPasses::kScreenThenSearch, vf_answers, &vf_hits.candidates);
+                        CcdPasses::kScreenOnly, vf_answers, &vf_hits.candidates);
     narrow_.edge_edge(d_x_t0, d_x_t1, edges_.data(), candidates.ee, candidates.ee_count, settings_.ccd,
-                      CcdPasses::kScreenThenSearch, ee_answers, &ee_hits.candidates);
+                      CcdPasses::kScreenOnly, ee_answers, &ee_hits.candidates);
     const NarrowPhaseTimings& device = narrow_.timings();
     stats_.narrow.seconds_ccd_device = 1e-3 * (device.screen_ms + device.search_ms + device.compact_ms);
     for (const CcdHit& hit : vf_answers) vf_hits.results.push_back(hit.result);
     for (const CcdHit& hit : ee_answers) ee_hits.results.push_back(hit.result);
+    // What the screen left undecided: the whole test, on the CPU.
+    arena_->execute([&] {
+      search_uncertain_hits(*scene_, x_t0, x_t1, settings_.ccd, vf_hits);
+      search_uncertain_hits(*scene_, x_t0, x_t1, settings_.ccd, ee_hits);
+    });
     const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] {
       append_collision_events(*scene_, x_t0, x_t1, candidates.vf_count, vf_hits, settings_.certifier,

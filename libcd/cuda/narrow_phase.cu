@@ -129,6 +129,14 @@ __global__ void __launch_bounds__(kBlockSize, 4)
   flags[i] = !decided ? kUndecided : (result.answer != CcdAnswer::kNo ? kScreenedHit : kScreenedNo);
 }
 
+// For the caller's search: the candidates subset[k] the screen left
+// undecided get the answer kUncertain.
+__global__ void mark_undecided_kernel(const std::uint32_t* __restrict__ subset, std::size_t count,
+                                      const unsigned char* __restrict__ flags, CcdResult* __restrict__ results) {
+  const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k < count && flags[subset[k]] == kUndecided) results[subset[k]].answer = CcdAnswer::kUncertain;
+}
+
 // The whole test: thread k tests candidate subset[k] (k when subset is null)
 // and writes its result at k and whether it is a hit (not kNo). With
 // screen_flags, a candidate the screen decided keeps the screen's result.
@@ -251,7 +259,8 @@ template <class Query>
 void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::size_t first,
                                     const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits,
                                     std::vector<typename Query::Candidate>* hit_candidates) {
-  const bool screen = passes == CcdPasses::kScreenThenSearch;
+  const bool screen = passes != CcdPasses::kSinglePass;
+  const bool search = passes == CcdPasses::kScreenThenSearch;
   CudaEvent start, screened, compacted, searched;
   resize_or_throw(results_, count, "CCD results");
   resize_or_throw(flags_, count, "CCD flags");
@@ -266,6 +275,11 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
     if (survivors > 0) {
       ccd_quick_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(query, selected_.data(), survivors,
                                                                           settings, results_.data(), flags_.data());
+      if (!search) {
+        SNAG_CUDA_CHECK_LAUNCH();
+        mark_undecided_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(selected_.data(), survivors,
+                                                                                flags_.data(), results_.data());
+      }
     }
   } else {
     ccd_full_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(query, nullptr, count, nullptr, nullptr, settings,
@@ -284,7 +298,7 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   const CcdResult* results = host_results_.data();
   const typename Query::Candidate* candidates = nullptr;
   if (survivors > 0) {
-    if (screen) {
+    if (search) {
       resize_or_throw(searched_results_, survivors, "CCD search results");
       resize_or_throw(searched_flags_, survivors, "CCD search flags");
       ccd_full_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(
@@ -309,7 +323,7 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   done.record(stream_);
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
   timings_.screen_ms += CudaEvent::elapsed_ms(start, screened);
-  if (screen) {
+  if (search) {
     timings_.search_ms += CudaEvent::elapsed_ms(compacted, searched);
     timings_.compact_ms += CudaEvent::elapsed_ms(screened, compacted) + CudaEvent::elapsed_ms(searched, done);
     timings_.searched += survivors;

@@ -52,6 +52,11 @@ namespace snag {
 enum class CcdPasses {
   kScreenThenSearch,  ///< the quick part over all candidates, the whole test over the undecided rest
   kSinglePass,        ///< the full search over all candidates at once
+  /// The quick part only: the candidates it leaves undecided come back as
+  /// hits whose answer is kUncertain, and the caller runs the whole test on
+  /// them (the CUDA back end does, on the CPU: they are a handful whose
+  /// (t, u, v) search takes one GPU thread milliseconds).
+  kScreenOnly,
 };
 
 /// A candidate the filter did not rule out: its index in the candidate list

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "libcd/narrow_phase/edge_edge_ccd.hpp"
+#include "libcd/narrow_phase/vertex_face_ccd.hpp"
 #include "libcd/pipeline/event_position.hpp"
 
 namespace snag {
@@ -41,6 +43,30 @@ Event collision_event(const Scene& scene, const std::vector<Vec3>& x_t0, const s
 Event collision_event(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                       const EdgeEdgeCandidate& c, const CcdResult& result) {
   return edge_edge_event(scene, x_t0, x_t1, c, result);
+}
+
+template <class Candidate>
+std::size_t search_uncertain(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                             const CcdSettings& settings, CcdHits<Candidate>& hits) {
+  std::vector<std::size_t> uncertain;
+  for (std::size_t k = 0; k < hits.results.size(); ++k) {
+    if (hits.results[k].answer == CcdAnswer::kUncertain) uncertain.push_back(k);
+  }
+  if (uncertain.empty()) return 0;
+  tbb::parallel_for(std::size_t{0}, uncertain.size(), [&](std::size_t j) {
+    const std::size_t k = uncertain[j];
+    hits.results[k] = ccd_test(scene, x_t0, x_t1, hits.candidates[k], settings);
+  });
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < hits.results.size(); ++k) {
+    if (hits.results[k].answer == CcdAnswer::kNo) continue;
+    hits.candidates[kept] = hits.candidates[k];
+    hits.results[kept] = hits.results[k];
+    ++kept;
+  }
+  hits.candidates.resize(kept);
+  hits.results.resize(kept);
+  return uncertain.size();
 }
 
 template <class Candidate>
@@ -84,6 +110,28 @@ void append_collisions(const Scene& scene, const std::vector<Vec3>& x_t0, const 
 }
 
 }  // namespace
+
+CcdResult ccd_test(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                   const VertexFaceCandidate& candidate, const CcdSettings& settings) {
+  const std::array<Vec3, 8> p = vertex_face_points(scene, x_t0, x_t1, candidate);
+  return vertex_face_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings);
+}
+
+CcdResult ccd_test(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                   const EdgeEdgeCandidate& candidate, const CcdSettings& settings) {
+  const std::array<Vec3, 8> p = edge_edge_points(scene, x_t0, x_t1, candidate);
+  return edge_edge_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings);
+}
+
+std::size_t search_uncertain_hits(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                  const CcdSettings& settings, CcdHits<VertexFaceCandidate>& hits) {
+  return search_uncertain(scene, x_t0, x_t1, settings, hits);
+}
+
+std::size_t search_uncertain_hits(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                  const CcdSettings& settings, CcdHits<EdgeEdgeCandidate>& hits) {
+  return search_uncertain(scene, x_t0, x_t1, settings, hits);
+}
 
 void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                              std::size_t tests, CcdHits<VertexFaceCandidate>& hits, const Certifier* certifier,

@@ -38,6 +38,23 @@ struct CcdHits {
   std::vector<CcdResult> results;
 };
 
+/// The whole floating-point CCD test of one candidate (vertex_face_ccd or
+/// edge_edge_ccd of libcd/narrow_phase/ on its 8 points), as the CPU back end
+/// runs it.
+CcdResult ccd_test(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                   const VertexFaceCandidate& candidate, const CcdSettings& settings);
+CcdResult ccd_test(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                   const EdgeEdgeCandidate& candidate, const CcdSettings& settings);
+
+/// For hits from a screen that left some candidates undecided (answer
+/// kUncertain, see CcdPasses::kScreenOnly): runs ccd_test on those, in
+/// parallel, keeps its answers, and drops the hits it rules out (order kept).
+/// Returns how many were searched.
+std::size_t search_uncertain_hits(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                  const CcdSettings& settings, CcdHits<VertexFaceCandidate>& hits);
+std::size_t search_uncertain_hits(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                  const CcdSettings& settings, CcdHits<EdgeEdgeCandidate>& hits);
+
 /// What both back ends do with the filter's answers to `tests` CCD queries of
 /// one kind, given its hits: adds the yes/no/uncertain counts to `stats`
 /// (vf_* or ee_*), certifies the uncertain hits with `certifier` when it is

@@ -159,6 +159,51 @@ TEST_F(NarrowPhaseCcdQueries, RoundsOfAnySizeGiveTheSameHitsAndTheirCandidates) 
   for (std::size_t k = 0; k < ee_hits.size(); ++k) EXPECT_TRUE(ee_candidates[k] == batch.ee[ee_hits[k].candidate]);
 }
 
+/// Runs the CPU's whole test on the hits a screen left undecided (kUncertain)
+/// and drops those it rules out; returns how many there were.
+std::size_t finish_on_cpu(const std::vector<const io::CcdQuery*>& queries, const CcdSettings& settings,
+                          std::vector<CcdHit>& hits) {
+  std::size_t undecided = 0;
+  std::vector<CcdHit> kept;
+  for (CcdHit hit : hits) {
+    if (hit.result.answer == CcdAnswer::kUncertain) {
+      ++undecided;
+      hit.result = cpu_answer(*queries[hit.candidate], settings);
+    }
+    if (hit.result.answer != CcdAnswer::kNo) kept.push_back(hit);
+  }
+  hits = kept;
+  return undecided;
+}
+
+TEST_F(NarrowPhaseCcdQueries, ScreenOnlyLeavesTheUndecidedToTheCaller) {
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  const QueryBatch batch = make_batch(queries);
+  DeviceBuffer<Vec3> x_t0, x_t1;
+  DeviceBuffer<Triangle> triangles;
+  DeviceBuffer<Edge> edges;
+  DeviceBuffer<VertexFaceCandidate> vf;
+  DeviceBuffer<EdgeEdgeCandidate> ee;
+  x_t0.upload(batch.x_t0);
+  x_t1.upload(batch.x_t1);
+  triangles.upload(batch.triangles);
+  edges.upload(batch.edges);
+  vf.upload(batch.vf);
+  ee.upload(batch.ee);
+  CudaNarrowPhase narrow(nullptr);
+  const CcdSettings settings;
+  std::vector<CcdHit> vf_hits, ee_hits;
+  narrow.vertex_face(x_t0.data(), x_t1.data(), triangles.data(), vf.data(), batch.vf.size(), settings,
+                     CcdPasses::kScreenOnly, vf_hits);
+  narrow.edge_edge(x_t0.data(), x_t1.data(), edges.data(), ee.data(), batch.ee.size(), settings,
+                   CcdPasses::kScreenOnly, ee_hits);
+  const std::size_t undecided =
+      finish_on_cpu(batch.vf_queries, settings, vf_hits) + finish_on_cpu(batch.ee_queries, settings, ee_hits);
+  EXPECT_GT(undecided, 0u) << "the hard queries must leave some undecided";
+  expect_same_as_cpu(batch.vf_queries, vf_hits, settings, "screen only");
+  expect_same_as_cpu(batch.ee_queries, ee_hits, settings, "screen only");
+}
+
 TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithThickness) {
   const std::vector<io::CcdQuery> queries =
       io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries/unit-tests");
