@@ -124,13 +124,13 @@ class CpuBackend final : public Backend {
   }
 
   void narrow_vertex_face(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    run_ccd(x_t0, x_t1, vf_, [&](const VertexFaceCandidate& c) { return ccd_test(*scene_, x_t0, x_t1, c, settings_.ccd); },
-            events);
+    const auto test = [&](const VertexFaceCandidate& c) { return ccd_test(*scene_, x_t0, x_t1, c, settings_.ccd); };
+    run_ccd(x_t0, x_t1, vf_, test, events);
   }
 
   void narrow_edge_edge(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    run_ccd(x_t0, x_t1, ee_, [&](const EdgeEdgeCandidate& c) { return ccd_test(*scene_, x_t0, x_t1, c, settings_.ccd); },
-            events);
+    const auto test = [&](const EdgeEdgeCandidate& c) { return ccd_test(*scene_, x_t0, x_t1, c, settings_.ccd); };
+    run_ccd(x_t0, x_t1, ee_, test, events);
   }
 
   const Scene* scene_ = nullptr;

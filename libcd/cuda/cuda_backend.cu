@@ -48,15 +48,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::unique_ptr<CudaBroadPhase> make_broad(BroadPhaseMethod method) {
-  switch (method) {
-    case BroadPhaseMethod::kVirtualSubdivisionGrid: return std::make_unique<CudaBroadPhase>(true);
-    case BroadPhaseMethod::kLargestTriangleGrid: return std::make_unique<CudaBroadPhase>(false);
-    case BroadPhaseMethod::kBruteForce: break;
-  }
-  throw UsageError("the CUDA back end has no brute-force broad phase; use --backend cpu");
-}
-
 /// A stream that is destroyed with its owner.
 class Stream {
  public:
@@ -107,8 +98,8 @@ class CudaBackend final : public Backend {
     broad.lambda = settings.lambda;
     broad.thickness = settings.thickness;
     broad.threads = settings.threads;
-    ccd_broad_ = make_broad(method_);
-    static_broad_ = make_broad(method_);
+    ccd_broad_ = CudaBroadPhase::create(method_);
+    static_broad_ = CudaBroadPhase::create(method_);
     ccd_broad_->build(scene, broad);
     BroadPhaseSettings static_settings = broad;
     static_settings.thickness = 0;

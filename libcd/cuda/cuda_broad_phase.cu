@@ -225,7 +225,9 @@ void CudaBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<Trian
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
 }
 
-std::unique_ptr<BroadPhase> make_cuda_broad_phase(BroadPhaseMethod method) {
+std::unique_ptr<BroadPhase> make_cuda_broad_phase(BroadPhaseMethod method) { return CudaBroadPhase::create(method); }
+
+std::unique_ptr<CudaBroadPhase> CudaBroadPhase::create(BroadPhaseMethod method) {
   switch (method) {
     case BroadPhaseMethod::kVirtualSubdivisionGrid: return std::make_unique<CudaBroadPhase>(true);
     case BroadPhaseMethod::kLargestTriangleGrid: return std::make_unique<CudaBroadPhase>(false);

@@ -47,6 +47,8 @@ class CudaBroadPhase final : public BroadPhase {
   /// subdivide = true: the VSS grid; false: the cell fits the largest triangle.
   explicit CudaBroadPhase(bool subdivide);
   ~CudaBroadPhase() override;
+  /// For kVirtualSubdivisionGrid or kLargestTriangleGrid; UsageError for kBruteForce.
+  static std::unique_ptr<CudaBroadPhase> create(BroadPhaseMethod method);
 
   /// As VirtualSubdivisionGrid::build; uploads topology and representatives.
   /// Throws UsageError for bad settings, CudaError when a CUDA call fails.

@@ -60,6 +60,23 @@ QueryBatch make_batch(const std::vector<io::CcdQuery>& queries) {
   return batch;
 }
 
+/// A QueryBatch uploaded to the device.
+struct DeviceBatch {
+  explicit DeviceBatch(const QueryBatch& batch) {
+    x_t0.upload(batch.x_t0);
+    x_t1.upload(batch.x_t1);
+    triangles.upload(batch.triangles);
+    edges.upload(batch.edges);
+    vf.upload(batch.vf);
+    ee.upload(batch.ee);
+  }
+  DeviceBuffer<Vec3> x_t0, x_t1;
+  DeviceBuffer<Triangle> triangles;
+  DeviceBuffer<Edge> edges;
+  DeviceBuffer<VertexFaceCandidate> vf;
+  DeviceBuffer<EdgeEdgeCandidate> ee;
+};
+
 CcdResult cpu_answer(const io::CcdQuery& q, const CcdSettings& settings) {
   const auto& p = q.points;
   return q.is_edge_edge ? edge_edge_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings)
@@ -103,25 +120,16 @@ TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithNoFalseNegativesOnAllQueries) {
   for (const auto& q : queries) positives += q.truth;
   ASSERT_GT(positives, 0u);
 
-  DeviceBuffer<Vec3> x_t0, x_t1;
-  DeviceBuffer<Triangle> triangles;
-  DeviceBuffer<Edge> edges;
-  DeviceBuffer<VertexFaceCandidate> vf;
-  DeviceBuffer<EdgeEdgeCandidate> ee;
-  x_t0.upload(batch.x_t0);
-  x_t1.upload(batch.x_t1);
-  triangles.upload(batch.triangles);
-  edges.upload(batch.edges);
-  vf.upload(batch.vf);
-  ee.upload(batch.ee);
+  const DeviceBatch device(batch);
   CudaNarrowPhase narrow(nullptr);
   CcdSettings settings;
   for (const CcdPasses passes : {CcdPasses::kScreenThenSearch, CcdPasses::kSinglePass}) {
     const char* schedule = passes == CcdPasses::kSinglePass ? "single pass" : "screen then search";
     std::vector<CcdHit> vf_hits, ee_hits;
-    narrow.vertex_face(x_t0.data(), x_t1.data(), triangles.data(), vf.data(), batch.vf.size(), settings, passes,
-                       vf_hits);
-    narrow.edge_edge(x_t0.data(), x_t1.data(), edges.data(), ee.data(), batch.ee.size(), settings, passes, ee_hits);
+    narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
+                       batch.vf.size(), settings, passes, vf_hits);
+    narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
+                     settings, passes, ee_hits);
     expect_same_as_cpu(batch.vf_queries, vf_hits, settings, schedule);
     expect_same_as_cpu(batch.ee_queries, ee_hits, settings, schedule);
   }
@@ -131,26 +139,16 @@ TEST_F(NarrowPhaseCcdQueries, RoundsOfAnySizeGiveTheSameHitsAndTheirCandidates) 
   const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
   const QueryBatch batch = make_batch(queries);
   ASSERT_GT(batch.vf.size(), 1000u);
-  DeviceBuffer<Vec3> x_t0, x_t1;
-  DeviceBuffer<Triangle> triangles;
-  DeviceBuffer<Edge> edges;
-  DeviceBuffer<VertexFaceCandidate> vf;
-  DeviceBuffer<EdgeEdgeCandidate> ee;
-  x_t0.upload(batch.x_t0);
-  x_t1.upload(batch.x_t1);
-  triangles.upload(batch.triangles);
-  edges.upload(batch.edges);
-  vf.upload(batch.vf);
-  ee.upload(batch.ee);
+  const DeviceBatch device(batch);
   CudaNarrowPhase narrow(nullptr);
   narrow.set_chunk_size(97);  // many rounds, the last one partial
   std::vector<CcdHit> vf_hits, ee_hits;
   std::vector<VertexFaceCandidate> vf_candidates;
   std::vector<EdgeEdgeCandidate> ee_candidates;
-  narrow.vertex_face(x_t0.data(), x_t1.data(), triangles.data(), vf.data(), batch.vf.size(), CcdSettings{},
-                     CcdPasses::kScreenThenSearch, vf_hits, &vf_candidates);
-  narrow.edge_edge(x_t0.data(), x_t1.data(), edges.data(), ee.data(), batch.ee.size(), CcdSettings{},
-                   CcdPasses::kScreenThenSearch, ee_hits, &ee_candidates);
+  narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(), batch.vf.size(),
+                     CcdSettings{}, CcdPasses::kScreenThenSearch, vf_hits, &vf_candidates);
+  narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
+                   CcdSettings{}, CcdPasses::kScreenThenSearch, ee_hits, &ee_candidates);
   expect_same_as_cpu(batch.vf_queries, vf_hits, CcdSettings{}, "rounds of 97");
   expect_same_as_cpu(batch.ee_queries, ee_hits, CcdSettings{}, "rounds of 97");
   ASSERT_EQ(vf_candidates.size(), vf_hits.size());
@@ -179,24 +177,14 @@ std::size_t finish_on_cpu(const std::vector<const io::CcdQuery*>& queries, const
 TEST_F(NarrowPhaseCcdQueries, ScreenOnlyLeavesTheUndecidedToTheCaller) {
   const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
   const QueryBatch batch = make_batch(queries);
-  DeviceBuffer<Vec3> x_t0, x_t1;
-  DeviceBuffer<Triangle> triangles;
-  DeviceBuffer<Edge> edges;
-  DeviceBuffer<VertexFaceCandidate> vf;
-  DeviceBuffer<EdgeEdgeCandidate> ee;
-  x_t0.upload(batch.x_t0);
-  x_t1.upload(batch.x_t1);
-  triangles.upload(batch.triangles);
-  edges.upload(batch.edges);
-  vf.upload(batch.vf);
-  ee.upload(batch.ee);
+  const DeviceBatch device(batch);
   CudaNarrowPhase narrow(nullptr);
   const CcdSettings settings;
   std::vector<CcdHit> vf_hits, ee_hits;
-  narrow.vertex_face(x_t0.data(), x_t1.data(), triangles.data(), vf.data(), batch.vf.size(), settings,
-                     CcdPasses::kScreenOnly, vf_hits);
-  narrow.edge_edge(x_t0.data(), x_t1.data(), edges.data(), ee.data(), batch.ee.size(), settings,
-                   CcdPasses::kScreenOnly, ee_hits);
+  narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(), batch.vf.size(),
+                     settings, CcdPasses::kScreenOnly, vf_hits);
+  narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
+                   settings, CcdPasses::kScreenOnly, ee_hits);
   const std::size_t undecided =
       finish_on_cpu(batch.vf_queries, settings, vf_hits) + finish_on_cpu(batch.ee_queries, settings, ee_hits);
   EXPECT_GT(undecided, 0u) << "the hard queries must leave some undecided";
@@ -209,25 +197,15 @@ TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithThickness) {
       io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries/unit-tests");
   ASSERT_FALSE(queries.empty());
   const QueryBatch batch = make_batch(queries);
-  DeviceBuffer<Vec3> x_t0, x_t1;
-  DeviceBuffer<Triangle> triangles;
-  DeviceBuffer<Edge> edges;
-  DeviceBuffer<VertexFaceCandidate> vf;
-  DeviceBuffer<EdgeEdgeCandidate> ee;
-  x_t0.upload(batch.x_t0);
-  x_t1.upload(batch.x_t1);
-  triangles.upload(batch.triangles);
-  edges.upload(batch.edges);
-  vf.upload(batch.vf);
-  ee.upload(batch.ee);
+  const DeviceBatch device(batch);
   CudaNarrowPhase narrow(nullptr);
   CcdSettings settings;
   settings.thickness = 1e-3;
   std::vector<CcdHit> vf_hits, ee_hits;
-  narrow.vertex_face(x_t0.data(), x_t1.data(), triangles.data(), vf.data(), batch.vf.size(), settings,
-                     CcdPasses::kScreenThenSearch, vf_hits);
-  narrow.edge_edge(x_t0.data(), x_t1.data(), edges.data(), ee.data(), batch.ee.size(), settings,
-                   CcdPasses::kScreenThenSearch, ee_hits);
+  narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(), batch.vf.size(),
+                     settings, CcdPasses::kScreenThenSearch, vf_hits);
+  narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
+                   settings, CcdPasses::kScreenThenSearch, ee_hits);
   expect_same_as_cpu(batch.vf_queries, vf_hits, settings, "thickness 1e-3");
   expect_same_as_cpu(batch.ee_queries, ee_hits, settings, "thickness 1e-3");
 }
