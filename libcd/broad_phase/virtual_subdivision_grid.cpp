@@ -106,6 +106,15 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   const std::uint64_t tests = first_test[cells];
   stats_.tests = tests;
 
+  // The leaves as the tests read them, cell by cell (RegisteredLeaf).
+  std::vector<RegisteredLeaf> registered(lists.leaves.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, registered.size(), 4096), [&](const auto& range) {
+    for (std::size_t r = range.begin(); r != range.end(); ++r) {
+      const Leaf& leaf = leaves_[lists.leaves[r]];
+      registered[r] = RegisteredLeaf{leaf.triangle, leaf.cells};
+    }
+  });
+
   constexpr std::uint64_t kChunk = 1 << 16;
   const std::size_t chunks = static_cast<std::size_t>((tests + kChunk - 1) / kChunk);
   std::vector<std::vector<std::uint64_t>> chunk_keys(chunks), chunk_culled(chunks);
@@ -122,8 +131,8 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
     PairCounts& counts = chunk_counts[chunk];
     std::vector<std::uint64_t>& keys = chunk_keys[chunk];
     for (std::uint64_t w = begin; w < end; ++w) {
-      const Leaf& a = leaves_[lists.leaves[lists.first[c] + i]];
-      const Leaf& b = leaves_[lists.leaves[lists.first[c] + j]];
+      const RegisteredLeaf& a = registered[lists.first[c] + i];
+      const RegisteredLeaf& b = registered[lists.first[c] + j];
       if (a.triangle.root == b.triangle.root) {
         ++counts.same_root;
       } else if (!slots_nested(a.triangle, b.triangle)) {
@@ -201,7 +210,7 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
 
   stats_.memory_bytes = leaves_.capacity() * sizeof(Leaf) + reg.registrations * 16 + lists.leaves.capacity() * 4 +
                         lists.cell_ids.capacity() * 8 + lists.first.capacity() * 8 + first_test.capacity() * 8 +
-                        (kept_tests + culled_tests) * 8 +
+                        registered.capacity() * sizeof(RegisteredLeaf) + (kept_tests + culled_tests) * 8 +
                         (bounds_.triangles.size() + bounds_.edges.size() + bounds_.vertices.size()) * sizeof(Dop18);
   stats_.duplicate_root_pair_tests = kept_tests - keys.size();
   stats_.duplicate_culled_tests = culled_tests - culled_unique;

@@ -20,13 +20,6 @@
 
 namespace snag {
 
-/// What the tests read of a leaf, copied in registration order (cell by
-/// cell), so that the leaves of one cell lie side by side.
-struct RegisteredLeaf {
-  VirtualTriangle triangle;  ///< root and time slot are read
-  LeafCells cells;
-};
-
 /// Buffers of the pair stage, reused across calls (they only grow).
 struct DevicePairs {
   DeviceBuffer<RegisteredLeaf> registered;

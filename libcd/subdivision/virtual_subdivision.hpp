@@ -31,6 +31,14 @@ struct Leaf {
   LeafCells cells;
 };
 
+/// What the pair tests read of a leaf. Both back ends copy the leaves in
+/// registration order (cell by cell), so that the leaves of one cell lie side
+/// by side and the tests of a cell read them from cache.
+struct RegisteredLeaf {
+  VirtualTriangle triangle;  ///< root and time slot are read
+  LeafCells cells;
+};
+
 /// What one subdivision level did.
 struct SubdivisionLevelCounts {
   std::size_t triangles = 0;   ///< virtual triangles examined at this level
