@@ -52,8 +52,8 @@ class CpuBackend final : public Backend {
       stats_.ccd_broad = ccd_broad_->stats();
       const auto start = std::chrono::steady_clock::now();
       const std::size_t first = events.size();
-      narrow_vertex_face(x_t0, x_t1, events);
-      narrow_edge_edge(x_t0, x_t1, events);
+      run_ccd(x_t0, x_t1, vf_, events);
+      run_ccd(x_t0, x_t1, ee_, events);
       sort_events_from(events, first);
       stats_.narrow.seconds_ccd = seconds_since(start) - stats_.narrow.seconds_certify;
     });
@@ -102,12 +102,13 @@ class CpuBackend final : public Backend {
   // Tests every candidate on all cores (answers kept by index, so the order
   // does not depend on the thread schedule), then counts, certifies and emits
   // as every back end does (append_collision_events).
-  template <typename Candidate, typename Test>
+  template <typename Candidate>
   void run_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, const std::vector<Candidate>& candidates,
-               Test test, std::vector<Event>& events) {
+               std::vector<Event>& events) {
     std::vector<CcdResult> results(candidates.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i != range.end(); ++i) results[i] = test(candidates[i]);
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+        results[i] = ccd_test(*scene_, x_t0, x_t1, candidates[i], settings_.ccd);
     });
     CcdHits<Candidate> hits;
     for (std::size_t i = 0; i < results.size(); ++i) {
@@ -121,16 +122,6 @@ class CpuBackend final : public Backend {
                             stats_.narrow, events);
     stats_.narrow.seconds_ccd_events +=
         seconds_since(events_start) - (stats_.narrow.seconds_certify - certify_before);
-  }
-
-  void narrow_vertex_face(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    const auto test = [&](const VertexFaceCandidate& c) { return ccd_test(*scene_, x_t0, x_t1, c, settings_.ccd); };
-    run_ccd(x_t0, x_t1, vf_, test, events);
-  }
-
-  void narrow_edge_edge(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) {
-    const auto test = [&](const EdgeEdgeCandidate& c) { return ccd_test(*scene_, x_t0, x_t1, c, settings_.ccd); };
-    run_ccd(x_t0, x_t1, ee_, test, events);
   }
 
   const Scene* scene_ = nullptr;

@@ -134,8 +134,11 @@ class CudaBackend final : public Backend {
     require_bound(x_t0.size() == x_t1.size() && x_t0.size() == scene_->vertex_count());
     stats_ = PipelineStats{};
     stats_.steps = 1;
-    const int slot_t0 = upload_frame(x_t0, find_frame(x_t1));  // keeps a prepared x_t1
-    const int slot_t1 = upload_frame(x_t1, slot_t0);
+    // Each frame is looked up once (a full compare when it is there); a
+    // prepared x_t1 is kept while x_t0 is uploaded.
+    const int found_t1 = find_frame(x_t1);
+    const int slot_t0 = upload_frame(x_t0, find_frame(x_t0), found_t1);
+    const int slot_t1 = upload_frame(x_t1, found_t1, slot_t0);
     wait_for(slot_t0);
     wait_for(slot_t1);
     const Vec3* d_x_t0 = slots_[slot_t0].device.data();
@@ -146,35 +149,29 @@ class CudaBackend final : public Backend {
     const auto start = std::chrono::steady_clock::now();
     const std::size_t first = events.size();
     // Host vectors are members, cleared and refilled: their pages stay mapped.
-    std::vector<CcdHit>& vf_answers = vf_answers_;
-    std::vector<CcdHit>& ee_answers = ee_answers_;
-    CcdHits<VertexFaceCandidate>& vf_hits = vf_hits_;
-    CcdHits<EdgeEdgeCandidate>& ee_hits = ee_hits_;
-    vf_answers.clear();
-    ee_answers.clear();
-    vf_hits.candidates.clear();
-    vf_hits.results.clear();
-    ee_hits.candidates.clear();
-    ee_hits.results.clear();
+    vf_answers_.clear();
+    ee_answers_.clear();
+    vf_hits_.clear();
+    ee_hits_.clear();
     narrow_.reset_timings();
     narrow_.vertex_face(d_x_t0, d_x_t1, triangles_.data(), candidates.vf, candidates.vf_count, settings_.ccd,
-                        CcdPasses::kScreenOnly, vf_answers, &vf_hits.candidates);
+                        CcdPasses::kScreenOnly, vf_answers_, &vf_hits_.candidates);
     narrow_.edge_edge(d_x_t0, d_x_t1, edges_.data(), candidates.ee, candidates.ee_count, settings_.ccd,
-                      CcdPasses::kScreenOnly, ee_answers, &ee_hits.candidates);
+                      CcdPasses::kScreenOnly, ee_answers_, &ee_hits_.candidates);
     const NarrowPhaseTimings& device = narrow_.timings();
     stats_.narrow.seconds_ccd_device = 1e-3 * (device.screen_ms + device.search_ms + device.compact_ms);
-    for (const CcdHit& hit : vf_answers) vf_hits.results.push_back(hit.result);
-    for (const CcdHit& hit : ee_answers) ee_hits.results.push_back(hit.result);
+    for (const CcdHit& hit : vf_answers_) vf_hits_.results.push_back(hit.result);
+    for (const CcdHit& hit : ee_answers_) ee_hits_.results.push_back(hit.result);
     // What the screen left undecided: the whole test, on the CPU.
     arena_->execute([&] {
-      search_uncertain_hits(*scene_, x_t0, x_t1, settings_.ccd, vf_hits);
-      search_uncertain_hits(*scene_, x_t0, x_t1, settings_.ccd, ee_hits);
+      search_uncertain_hits(*scene_, x_t0, x_t1, settings_.ccd, vf_hits_);
+      search_uncertain_hits(*scene_, x_t0, x_t1, settings_.ccd, ee_hits_);
     });
     const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] {
-      append_collision_events(*scene_, x_t0, x_t1, candidates.vf_count, vf_hits, settings_.certifier,
+      append_collision_events(*scene_, x_t0, x_t1, candidates.vf_count, vf_hits_, settings_.certifier,
                               settings_.thickness, stats_.narrow, events);
-      append_collision_events(*scene_, x_t0, x_t1, candidates.ee_count, ee_hits, settings_.certifier,
+      append_collision_events(*scene_, x_t0, x_t1, candidates.ee_count, ee_hits_, settings_.certifier,
                               settings_.thickness, stats_.narrow, events);
     });
     sort_events_from(events, first);
@@ -186,34 +183,33 @@ class CudaBackend final : public Backend {
     require_bound(x.size() == scene_->vertex_count());
     stats_ = PipelineStats{};
     stats_.frames = 1;
-    const int slot = upload_frame(x, -1);
+    const int slot = upload_frame(x, find_frame(x), -1);
     wait_for(slot);
     const Vec3* d_x = slots_[slot].device.data();
     const DeviceCandidates candidates = static_broad_->detect_static_on_device(d_x, compute_.get());
     stats_.static_broad = static_broad_->stats();
 
     const auto start = std::chrono::steady_clock::now();
-    std::vector<std::uint32_t>& hits = static_hits_;
-    std::vector<TrianglePair>& hit_pairs = static_hit_pairs_;
-    hits.clear();
-    hit_pairs.clear();
+    static_hits_.clear();
+    static_hit_pairs_.clear();
     TrianglePairCounts counts;
     narrow_.reset_timings();
-    narrow_.triangle_pairs(d_x, triangles_.data(), candidates.pairs, candidates.pair_count, hits, counts, &hit_pairs);
+    narrow_.triangle_pairs(d_x, triangles_.data(), candidates.pairs, candidates.pair_count, static_hits_, counts,
+                           &static_hit_pairs_);
     stats_.narrow.seconds_static_device = 1e-3 * (narrow_.timings().static_ms + narrow_.timings().compact_ms);
     stats_.narrow.predicate_calls = counts.predicate_calls;
     stats_.narrow.predicate_exact = counts.predicate_exact;
     stats_.narrow.triangle_tests = candidates.pair_count;
     const auto events_start = std::chrono::steady_clock::now();
-    arena_->execute([&] { append_intersection_events(*scene_, x, hit_pairs, events); });
+    arena_->execute([&] { append_intersection_events(*scene_, x, static_hit_pairs_, events); });
     stats_.narrow.seconds_static_events = seconds_since(events_start);
-    stats_.narrow.triangles_intersecting += hits.size();
+    stats_.narrow.triangles_intersecting += static_hits_.size();
     stats_.narrow.seconds_static = seconds_since(start);
   }
 
   void prepare(const std::vector<Vec3>& x) override {
     require_bound(x.size() == scene_->vertex_count());
-    (void)upload_frame(x, -1);
+    (void)upload_frame(x, find_frame(x), -1);
   }
 
   const PipelineStats& stats() const override { return stats_; }
@@ -236,13 +232,13 @@ class CudaBackend final : public Backend {
     return -1;
   }
 
-  // Returns the slot that holds x, uploading it into a slot other than
-  // `keep` (the least recently used one when keep is -1) when no slot holds
-  // it yet.
-  int upload_frame(const std::vector<Vec3>& x, int keep) {
+  // Returns the slot that holds x: `found` (find_frame(x)) when it is not -1,
+  // else a slot other than `keep` (the least recently used one when keep is
+  // -1) into which x is uploaded.
+  int upload_frame(const std::vector<Vec3>& x, int found, int keep) {
     ++use_clock_;
     const std::size_t bytes = x.size() * sizeof(Vec3);
-    if (const int found = find_frame(x); found >= 0) {
+    if (found >= 0) {
       slots_[found].last_use = use_clock_;
       return found;
     }

@@ -36,6 +36,10 @@ template <class Candidate>
 struct CcdHits {
   std::vector<Candidate> candidates;
   std::vector<CcdResult> results;
+  void clear() {
+    candidates.clear();
+    results.clear();
+  }
 };
 
 /// The whole floating-point CCD test of one candidate (vertex_face_ccd or
