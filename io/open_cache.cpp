@@ -72,6 +72,25 @@ std::unique_ptr<FrameSource> open_input(const InputSpec& input, const CacheOptio
   return std::make_unique<MeshSequenceSource>(std::move(files), input.name, std::move(description));
 }
 
+// kAuto welds what arrives with vertices split per face corner or normal
+// seam: the formats assimp reads. OBJ, PLY and STL keep the file's vertices
+// (STL's reader already joins equal corners), as do point caches, whose
+// vertices must match the cache's.
+WeldSettings resolve_weld(const WeldSettings& weld, const InputSpec& input) {
+  if (weld.method != WeldSettings::Method::kAuto) return weld;
+  WeldSettings resolved;
+  resolved.method = WeldSettings::Method::kNone;
+#if SNAG_HAVE_ASSIMP
+  const std::string& path = input.frame_files.empty() ? input.path : input.frame_files.front();
+  if (input.topology.empty() && is_assimp_extension(lower_extension(path))) {
+    resolved.method = WeldSettings::Method::kExact;
+  }
+#else
+  (void)input;
+#endif
+  return resolved;
+}
+
 bool selects_everything(const FrameSelection& selection) {
   return selection.first == 0 && selection.last == static_cast<std::size_t>(-1) && selection.step == 1;
 }
@@ -83,7 +102,7 @@ std::unique_ptr<FrameSource> open_cache(const CacheOptions& options) {
   std::vector<std::unique_ptr<FrameSource>> parts;
   std::vector<std::string> labels;
   for (const InputSpec& input : options.inputs) {
-    std::unique_ptr<FrameSource> part = open_input(input, options);
+    std::unique_ptr<FrameSource> part = weld_vertices(open_input(input, options), resolve_weld(options.weld, input));
     if (!selects_everything(options.frames)) part = std::make_unique<SelectedFramesSource>(std::move(part), options.frames);
     parts.push_back(std::move(part));
     labels.push_back(input.path);

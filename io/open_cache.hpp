@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "io/vertex_weld.hpp"
 #include "libcd/scene/frame_source.hpp"
 
 namespace snag::io {
@@ -50,6 +51,10 @@ struct CacheOptions {
   /// Animated files only: time range in seconds to sample (default: the
   /// animation's whole duration).
   std::optional<double> start_time, end_time;
+  /// Welding of coincident vertices, per input; kAuto welds exactly the
+  /// formats that split vertices (assimp's: FBX, Collada, glTF ...). The weld
+  /// looks at every frame of the input, before the frame selection.
+  WeldSettings weld;
 };
 
 /// Opens the inputs as one source. Several inputs become several objects in

@@ -16,9 +16,13 @@ using snag::tools::CacheArguments;
 
 nlohmann::json to_json(const CacheStatistics& s, const snag::FrameSource& source) {
   nlohmann::json objects = nlohmann::json::array();
-  for (const auto& o : s.objects) {
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const auto& o = s.objects[i];
+    const snag::Object& object = source.scene().objects()[i];
     objects.push_back({{"name", o.name},
                        {"vertices", o.vertices},
+                       {"file_vertices", snag::file_vertex_count(object)},
+                       {"weld", object.weld.method},
                        {"triangles", o.triangles},
                        {"edges", o.edges},
                        {"boundary_edges", o.boundary_edges},
@@ -48,11 +52,18 @@ nlohmann::json to_json(const CacheStatistics& s, const snag::FrameSource& source
 void print_human(const CacheStatistics& s, const snag::FrameSource& source) {
   std::printf("source      %s\n", source.description().c_str());
   std::printf("objects     %zu\n", s.objects.size());
-  for (const auto& o : s.objects) {
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const auto& o = s.objects[i];
+    const snag::Object& object = source.scene().objects()[i];
     std::printf("  %-20s %9zu vertices %9zu triangles %9zu edges\n", o.name.c_str(), o.vertices, o.triangles,
                 o.edges);
     std::printf("  %-20s %9zu boundary edges, %zu non-manifold edges, %zu degenerate triangles\n", "",
                 o.boundary_edges, o.non_manifold_edges, o.degenerate_triangles);
+    if (object.weld.method != "none") {
+      const std::size_t file_vertices = snag::file_vertex_count(object);
+      std::printf("  %-20s welded %zu file vertices into %zu (%s)\n", "", file_vertices, o.vertices,
+                  object.weld.method.c_str());
+    }
   }
   std::printf("frames      %zu (time %g to %g)\n", s.frames, s.first_time, s.last_time);
   if (s.frames == 0) return;

@@ -70,6 +70,7 @@ int run_verification(snag::tools::CacheArguments cache, const VerifyOptions& opt
       throw snag::UsageError("--frames " + cache.frames + " differs from the report's selection " +
                              report->frames + "; give the same selection, or none to use the report's");
     }
+    if (cache.weld.empty()) cache.weld = report->weld;
     settings.thickness = report->thickness;
     settings.collisions = report->mode != "dcd";
     settings.intersections = report->mode != "ccd";

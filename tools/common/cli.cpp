@@ -40,6 +40,10 @@ void add_cache_options(CLI::App& app, CacheArguments& arguments) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--end", arguments.end_time, "Animated files: last sample time in seconds")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--weld", arguments.weld,
+                 "Join coincident vertices for topology: auto (exact for FBX, Collada, glTF and other assimp\n"
+                 "formats, none for OBJ, PLY, STL, point caches), none, exact (bit-identical in every frame),\n"
+                 "or a distance DIST (within DIST in every frame). Reports keep the file's vertex ids.");
 }
 
 io::CacheOptions to_cache_options(const CacheArguments& arguments) {
@@ -73,6 +77,7 @@ io::CacheOptions to_cache_options(const CacheArguments& arguments) {
   if (arguments.names.size() > arguments.inputs.size()) {
     throw UsageError("more --name values than inputs");
   }
+  options.weld = io::parse_weld(arguments.weld.empty() ? "auto" : arguments.weld);
   if (!arguments.frames.empty()) options.frames = io::parse_frame_selection(arguments.frames);
   if (arguments.sample_rate > 0) options.sample_rate = arguments.sample_rate;
   if (arguments.start_time >= 0) options.start_time = arguments.start_time;

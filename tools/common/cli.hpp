@@ -19,10 +19,11 @@ struct CacheArguments {
   bool sequence = false;                ///< --sequence: the inputs are the frames of one object
   double sample_rate = 0;               ///< --fps for animated files (0 = the file's own)
   double start_time = -1, end_time = -1;
+  std::string weld;                     ///< --weld auto|none|exact|DIST; empty: not given (auto)
 };
 
 /// Adds the positional inputs and --topology, --name, --frames, --fps,
-/// --start, --end to `app`.
+/// --start, --end, --weld to `app`.
 void add_cache_options(CLI::App& app, CacheArguments& arguments);
 
 /// Turns parsed arguments into io::CacheOptions. Point caches (.pc2, .mdd)

@@ -15,7 +15,8 @@ const char* type_name(ContactType type) {
 
 json vertex_ref(const Scene& scene, Index v) {
   const std::size_t o = scene.object_of_vertex(v);
-  return {{"object", scene.objects()[o].name}, {"vertex", v - scene.vertex_offset(o)}};
+  const Object& object = scene.objects()[o];
+  return {{"object", object.name}, {"vertex", file_vertex_id(object, v - scene.vertex_offset(o))}};
 }
 
 json face_ref(const Scene& scene, Index f) {
@@ -27,7 +28,9 @@ json edge_ref(const Scene& scene, Index e) {
   const std::size_t o = scene.object_of_edge(e);
   const Edge& edge = scene.edges()[e];
   const Index base = scene.vertex_offset(o);
-  return {{"object", scene.objects()[o].name}, {"edge", {edge[0] - base, edge[1] - base}}};
+  const Object& object = scene.objects()[o];
+  return {{"object", object.name},
+          {"edge", {file_vertex_id(object, edge[0] - base), file_vertex_id(object, edge[1] - base)}}};
 }
 
 namespace {
@@ -77,6 +80,8 @@ json make_report(const FrameSource& source, const ScanResult& result, const Repo
   for (const Object& object : scene.objects()) {
     objects.push_back({{"name", object.name},
                        {"vertices", object.vertex_count},
+                       {"file_vertices", file_vertex_count(object)},
+                       {"weld", object.weld.method},
                        {"triangles", object.triangles.size()},
                        {"edges", object.edges.size()}});
   }
@@ -136,7 +141,8 @@ json make_report(const FrameSource& source, const ScanResult& result, const Repo
         {"thickness", settings.thickness},
         {"lambda", settings.lambda},
         {"threads", settings.threads},
-        {"frames", settings.frames}}},
+        {"frames", settings.frames},
+        {"weld", settings.weld}}},
       {"certified", certified},
       {"summary",
        {{"events", result.events.size()},

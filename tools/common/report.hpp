@@ -17,10 +17,13 @@ struct ReportSettings {
   unsigned threads = 0;
   std::string frames;      ///< the --frames selection, empty for all
   std::string source;      ///< FrameSource::description()
+  std::string weld;        ///< the --weld setting (each object says which method ran)
 };
 
 /// Element references as reports write them: {"object": name, "vertex" | "face": local id}
 /// or {"object": name, "edge": [two local vertex ids]}, from global ids of `scene`.
+/// Vertex ids are the file's (file_vertex_id): a welded vertex is named by the
+/// smallest file vertex joined into it.
 nlohmann::json vertex_ref(const Scene& scene, Index v);
 nlohmann::json face_ref(const Scene& scene, Index f);
 nlohmann::json edge_ref(const Scene& scene, Index e);

@@ -66,9 +66,12 @@ Index local_id(const ScanReport& report, const json& ref, const char* key, std::
   return static_cast<Index>(id);
 }
 
+// Reports name vertices by the file's ids; a welded vertex by any of those joined into it.
 Index vertex_id(const ScanReport& report, const Scene& scene, const json& ref, const std::string& where) {
   const std::size_t o = object_index(report, scene, ref, where);
-  return scene.vertex_offset(o) + local_id(report, ref, "vertex", scene.objects()[o].vertex_count, where);
+  const Object& object = scene.objects()[o];
+  return scene.vertex_offset(o) +
+         vertex_of_file_vertex(object, local_id(report, ref, "vertex", file_vertex_count(object), where));
 }
 
 Index face_id(const ScanReport& report, const Scene& scene, const json& ref, const std::string& where) {
@@ -84,11 +87,14 @@ Index edge_id(const ScanReport& report, const Scene& scene, const json& ref, con
   }
   const long long u = ends[0].get<long long>(), v = ends[1].get<long long>();
   const Object& object = scene.objects()[o];
-  if (u < 0 || v < 0 || u >= object.vertex_count || v >= object.vertex_count) {
+  const auto file_vertices = static_cast<long long>(file_vertex_count(object));
+  if (u < 0 || v < 0 || u >= file_vertices || v >= file_vertices) {
     bad_report(report.path, where + ": edge vertex id out of range (the object has " +
-                                std::to_string(object.vertex_count) + " vertices)");
+                                std::to_string(file_vertices) + " vertices)");
   }
-  const Edge edge{static_cast<Index>(std::min(u, v)), static_cast<Index>(std::max(u, v))};
+  const Index a = vertex_of_file_vertex(object, static_cast<Index>(u));
+  const Index b = vertex_of_file_vertex(object, static_cast<Index>(v));
+  const Edge edge{std::min(a, b), std::max(a, b)};
   const auto it = std::lower_bound(object.edges.begin(), object.edges.end(), edge);
   if (it == object.edges.end() || *it != edge) {
     bad_report(report.path, where + ": " + std::to_string(u) + "-" + std::to_string(v) + " is not an edge of \"" +
@@ -191,6 +197,7 @@ ScanReport read_scan_report(const std::string& path) {
     bad_report(path, "settings: unknown mode \"" + report.mode + "\"");
   }
   report.frames = string_member(path, settings, "frames", "settings");
+  if (settings.contains("weld")) report.weld = string_member(path, settings, "weld", "settings");
   report.backend = string_member(path, settings, "backend", "settings");
   report.precision = string_member(path, settings, "precision", "settings");
   report.thickness = number_member(path, settings, "thickness", "settings");
@@ -217,6 +224,13 @@ std::vector<Event> report_events(const ScanReport& report, const FrameSource& so
     const std::string name = string_member(path, objects[o], "name", where);
     if (name != object.name) {
       bad_report(path, where + " is \"" + name + "\" in the report, \"" + object.name + "\" in the cache");
+    }
+    if (objects[o].contains("weld")) {
+      const std::string weld = string_member(path, objects[o], "weld", where);
+      if (weld != object.weld.method) {
+        bad_report(path, "object \"" + name + "\" was welded '" + weld + "' for the report but '" +
+                             object.weld.method + "' here: give the same --weld as the scan");
+      }
     }
     const std::size_t vertices = unsigned_member(path, objects[o], "vertices", where);
     const std::size_t triangles = unsigned_member(path, objects[o], "triangles", where);

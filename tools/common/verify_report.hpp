@@ -22,6 +22,7 @@ struct ScanReport {
   nlohmann::json json;
   std::string mode;       ///< "ccd", "dcd" or "all"
   std::string frames;     ///< the --frames selection the scan used ("" = all)
+  std::string weld;       ///< the --weld setting the scan used ("" in reports older than it)
   std::string backend;    ///< informational
   std::string precision;  ///< informational
   double thickness = 0;   ///< contact distance, scene units
