@@ -3,14 +3,15 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "libcd/core/error.hpp"
 #include "libcd/pipeline/scan.hpp"
 #include "snag/config.hpp"
 #include "tools/common/cli.hpp"
+#include "tools/common/replacing_file.hpp"
 #include "tools/common/report.hpp"
 #include "tools/common/run_tool.hpp"
 #if SNAG_HAVE_CGAL
@@ -117,6 +118,10 @@ int main(int argc, char** argv) {
       if (show_progress) std::fprintf(stderr, "\rsnag-scan: frame %zu of %zu", done, total);
       if (show_progress && done == total) std::fprintf(stderr, "\n");
     };
+    // Made before the scan, so that a report that cannot be written fails
+    // at once; an earlier report stays untouched until this one is complete.
+    std::optional<snag::tools::ReplacingFile> report_file;
+    if (options.report != "-") report_file.emplace(options.report);
     snag::ScanResult result = snag::scan_cache(*source, *backend, scan, progress);
 
     snag::tools::ReportSettings report_settings;
@@ -128,12 +133,13 @@ int main(int argc, char** argv) {
     report_settings.threads = options.threads;
     report_settings.frames = cache.frames;
     report_settings.source = source->description();
+    report_settings.weld = cache.weld.empty() ? "auto" : cache.weld;
     const std::string text = snag::tools::make_report(*source, result, report_settings).dump(1) + "\n";
     if (options.report == "-") {
       std::cout << text;
     } else {
-      std::ofstream out(options.report);
-      if (!out || !(out << text)) throw snag::UsageError("cannot write the report to '" + options.report + "'");
+      report_file->stream() << text;
+      report_file->commit();
     }
     if (!options.quiet) print_summary(result, backend->name());
     const bool over = options.fail_on > 0 && result.events.size() >= options.fail_on;

@@ -5,11 +5,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 extern char** environ;
 
@@ -17,7 +20,8 @@ namespace snag::test {
 
 namespace fs = std::filesystem;
 
-ProcessResult run_process(const std::string& executable, const std::vector<std::string>& arguments) {
+ProcessResult run_process(const std::string& executable, const std::vector<std::string>& arguments,
+                          const ProcessOptions& options) {
   // Output goes to files, not pipes: a child that writes a lot to both
   // streams cannot block on a full pipe while we read the other.
   TemporaryDirectory capture;
@@ -38,11 +42,27 @@ ProcessResult run_process(const std::string& executable, const std::vector<std::
   const int spawn_error = posix_spawn(&pid, executable.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (spawn_error != 0) throw std::runtime_error("cannot start " + executable);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw std::runtime_error("waitpid failed for " + executable);
-  }
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  const auto elapsed = [&start] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   ProcessResult result;
+  bool signalled = false;
+  int status = 0;
+  for (;;) {
+    const pid_t done = waitpid(pid, &status, options.timeout_seconds > 0 || options.signal_after_seconds > 0 ? WNOHANG : 0);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) throw std::runtime_error("waitpid failed for " + executable);
+    if (options.signal_after_seconds > 0 && !signalled && elapsed() >= options.signal_after_seconds) {
+      kill(pid, options.signal);
+      signalled = true;
+    }
+    if (options.timeout_seconds > 0 && !result.timed_out && elapsed() >= options.timeout_seconds) {
+      kill(pid, SIGKILL);
+      result.timed_out = true;
+    }
+    if (done == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  result.seconds = elapsed();
   if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) result.exit_code = 128 + WTERMSIG(status);
   result.out = read_file(out_path);

@@ -11,12 +11,22 @@ namespace snag::test {
 struct ProcessResult {
   int exit_code = -1;       ///< the exit status; 128 + N when killed by signal N
   std::string out, err;     ///< everything written to standard output and standard error
+  bool timed_out = false;   ///< killed for running past ProcessOptions::timeout_seconds
+  double seconds = 0;       ///< wall time from start to exit
+};
+
+/// Limits on a child process.
+struct ProcessOptions {
+  double timeout_seconds = 0;       ///< > 0: killed (SIGKILL) after this long, and timed_out set
+  double signal_after_seconds = 0;  ///< > 0: sent `signal` after this long
+  int signal = 2;                   ///< SIGINT
 };
 
 /// Runs `executable` with `arguments` (argv[1..]), standard input closed,
 /// standard output and standard error captured in full, and waits for it.
 /// Throws std::runtime_error when the process cannot be started.
-ProcessResult run_process(const std::string& executable, const std::vector<std::string>& arguments);
+ProcessResult run_process(const std::string& executable, const std::vector<std::string>& arguments,
+                          const ProcessOptions& options = {});
 
 /// The non-empty lines of `text`.
 std::vector<std::string> lines_of(const std::string& text);
