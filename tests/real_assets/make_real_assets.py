@@ -295,7 +295,7 @@ def export(scene, meshes, directory, name):
                              apply_scale_options="FBX_SCALE_ALL", bake_anim_use_all_actions=False,
                              bake_anim_use_nla_strips=False, bake_anim_simplify_factor=0.0,
                              use_mesh_modifiers=False)
-    if hasattr(bpy.ops.wm, "collada_export"):
+    if "collada_export" in dir(bpy.ops.wm):  # hasattr is always true on bpy.ops
         bpy.ops.wm.collada_export(filepath=base + ".dae", include_animations=True, include_armatures=True,
                                   sampling_rate=1, keep_keyframes=False,
                                   export_animation_type_selection="sample")
