@@ -179,6 +179,20 @@ SNAG_HD_INLINE bool inputs_in_range(const Vec3 points[8], double d) {
   return d >= 0 && d <= kMaxMagnitude;
 }
 
+/// The rounding bound E_k of a corner value of the contact function over
+/// these 8 points (see the file comment, steps 1 to 3). The points must
+/// satisfy inputs_in_range.
+SNAG_HD_INLINE void corner_error_bounds(const Vec3 points[8], double error[3]) {
+  for (int k = 0; k < 3; ++k) {
+    double largest = 0;
+    for (int i = 0; i < 8; ++i) {
+      const double c = fabs(points[i][k]);
+      largest = c > largest ? c : largest;
+    }
+    error[k] = kCornerErrorFactor * largest + kUnderflowSlack;
+  }
+}
+
 /// The search. Contact provides: `Vec3 points[8]` (the inputs),
 /// `corner_values(t, u, v, f)` (f[4 ti + 2 ui + vi] = F(t[ti], u[ui], v[vi])),
 /// `outside_domain(u_lo, v_lo)`, `corner_in_domain(u, v)` and
@@ -186,18 +200,11 @@ SNAG_HD_INLINE bool inputs_in_range(const Vec3 points[8], double d) {
 template <class Contact>
 SNAG_HD CcdResult inclusion_ccd(const Contact& contact, const CcdSettings& settings) {
   const double d = settings.thickness;
-  double error[3] = {0, 0, 0}, threshold[3];
-  for (int i = 0; i < 8; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      const double c = fabs(contact.points[i][k]);
-      if (!(c <= kMaxMagnitude)) return make_result(CcdAnswer::kUncertain, 0, 1);  // NaN or too large
-      error[k] = c > error[k] ? c : error[k];
-    }
-  }
-  if (!(d >= 0 && d <= kMaxMagnitude)) return make_result(CcdAnswer::kUncertain, 0, 1);
+  if (!inputs_in_range(contact.points, d)) return make_result(CcdAnswer::kUncertain, 0, 1);
+  double error[3], threshold[3];
+  corner_error_bounds(contact.points, error);
   double largest_error = 0;
   for (int k = 0; k < 3; ++k) {
-    error[k] = kCornerErrorFactor * error[k] + kUnderflowSlack;
     threshold[k] = round_up(d + error[k]);
     largest_error = error[k] > largest_error ? error[k] : largest_error;
   }

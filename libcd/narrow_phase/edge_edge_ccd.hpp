@@ -1,7 +1,9 @@
 // Conservative continuous collision detection of two edges, usable from host
 // and device code.
 //
-// Method: three proven early exits; at thickness 0 the search over time alone
+// Method: three proven early exits; the decisions by structure of
+// ccd_structure.hpp (a contact at t = 0, a pair that moves as one); at
+// thickness 0 the search over time alone
 // of ccd_time_search.hpp, which decides nearly every plain crossing; then, for
 // what is left, the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
 // "A Large Scale Benchmark and an Inclusion-Based Algorithm for Continuous
@@ -42,6 +44,7 @@
 #include "libcd/narrow_phase/ccd_inclusion.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
 #include "libcd/narrow_phase/ccd_separating_direction.hpp"
+#include "libcd/narrow_phase/ccd_structure.hpp"
 #include "libcd/narrow_phase/ccd_swept_aabb.hpp"
 #include "libcd/narrow_phase/ccd_time_search.hpp"
 #include "libcd/narrow_phase/interval.hpp"
@@ -129,9 +132,37 @@ SNAG_HD_INLINE bool edge_edge_early_exit(const Vec3& ea0_t0, const Vec3& ea1_t0,
   return false;
 }
 
-/// The early exits and, at thickness 0, the time search: true with *result
-/// set (the answer edge_edge_ccd gives) when they decide the query, false
-/// when only the (t, u, v) search can. Never throws.
+/// The decisions by structure (ccd_structure.hpp), for inputs that passed
+/// the range check: true with *result set when they decide the query: kYes
+/// with toi [0, 0] when the edges provably touch at t = 0 (at thickness d:
+/// are provably within d), kNo when at thickness 0 the four ends move by one
+/// displacement and the edges do not touch at t = 0. Never throws.
+SNAG_HD_INLINE bool edge_edge_structure(const ccd_detail::EdgeEdgeContact& contact, const CcdSettings& settings,
+                                        CcdResult* result) {
+  using namespace ccd_detail;
+  const Vec3 *x = contact.points, &ea0 = x[0], &ea1 = x[1], &eb0 = x[2], &eb1 = x[3];
+  const bool exact = in_exact_range(ea0, ea1, eb0, eb1);
+  if (exact && segments_meet(ea0, ea1, eb0, eb1)) {
+    *result = make_result(CcdAnswer::kYes, 0, 0);
+    return true;
+  }
+  if (settings.thickness > 0) {
+    double u, v;
+    closest_on_segments(ea0, ea1, eb0, eb1, &u, &v);
+    if (within_at_start(contact, dyadic_parameter(u), dyadic_parameter(v), settings.thickness)) {
+      *result = make_result(CcdAnswer::kYes, 0, 0);
+      return true;
+    }
+  } else if (exact && moves_together(x)) {
+    *result = make_result(CcdAnswer::kNo, 1, 1);
+    return true;
+  }
+  return false;
+}
+
+/// The early exits, the decisions by structure and, at thickness 0, the time
+/// search: true with *result set (the answer edge_edge_ccd gives) when they
+/// decide the query, false when only the (t, u, v) search can. Never throws.
 SNAG_HD_INLINE bool edge_edge_quick_ccd(const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0,
                                         const Vec3& eb1_t0, const Vec3& ea0_t1, const Vec3& ea1_t1,
                                         const Vec3& eb0_t1, const Vec3& eb1_t1, const CcdSettings& settings,
@@ -139,8 +170,9 @@ SNAG_HD_INLINE bool edge_edge_quick_ccd(const Vec3& ea0_t0, const Vec3& ea1_t0, 
   if (edge_edge_early_exit(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings, result)) {
     return true;
   }
-  if (settings.thickness != 0) return false;
   const ccd_detail::EdgeEdgeContact contact{{ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1}};
+  if (edge_edge_structure(contact, settings, result)) return true;
+  if (settings.thickness != 0) return false;
   const Vec3 p[2] = {eb0_t0 - ea0_t0, eb0_t1 - ea0_t1}, b[2] = {ea1_t0 - ea0_t0, ea1_t1 - ea0_t1},
              c[2] = {eb1_t0 - eb0_t0, eb1_t1 - eb0_t1};
   return ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, result);

@@ -1,7 +1,9 @@
 // Conservative continuous collision detection of a vertex against a triangle,
 // usable from host and device code.
 //
-// Method: three proven early exits; at thickness 0 the search over time alone
+// Method: three proven early exits; the decisions by structure of
+// ccd_structure.hpp (a contact at t = 0, a pair that moves as one); at
+// thickness 0 the search over time alone
 // of ccd_time_search.hpp, which decides nearly every plain crossing; then, for
 // what is left, the inclusion-based search of ccd_inclusion.hpp (after Wang et al.,
 // "A Large Scale Benchmark and an Inclusion-Based Algorithm for Continuous
@@ -41,6 +43,7 @@
 #include "libcd/narrow_phase/ccd_inclusion.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
 #include "libcd/narrow_phase/ccd_separating_direction.hpp"
+#include "libcd/narrow_phase/ccd_structure.hpp"
 #include "libcd/narrow_phase/ccd_swept_aabb.hpp"
 #include "libcd/narrow_phase/ccd_time_search.hpp"
 #include "libcd/narrow_phase/interval.hpp"
@@ -126,15 +129,48 @@ SNAG_HD_INLINE bool vertex_face_early_exit(const Vec3& p_t0, const Vec3& a_t0, c
   return false;
 }
 
-/// The early exits and, at thickness 0, the time search: true with *result
-/// set (the answer vertex_face_ccd gives) when they decide the query, false
-/// when only the (t, u, v) search can. Never throws.
+/// The decisions by structure (ccd_structure.hpp), for inputs that passed
+/// the range check: true with *result set when they decide the query: kYes
+/// with toi [0, 0] when the vertex provably touches the face at t = 0 (at
+/// thickness d: is provably within d of it), kNo when at thickness 0 the
+/// four points move by one displacement and do not touch at t = 0. Never
+/// throws.
+SNAG_HD_INLINE bool vertex_face_structure(const ccd_detail::VertexFaceContact& contact, const CcdSettings& settings,
+                                          CcdResult* result) {
+  using namespace ccd_detail;
+  const Vec3 *x = contact.points, &p = x[0], &a = x[1], &b = x[2], &c = x[3];
+  const bool exact = in_exact_range(p, a, b, c);
+  if (exact && point_on_triangle(p, a, b, c)) {
+    *result = make_result(CcdAnswer::kYes, 0, 0);
+    return true;
+  }
+  if (settings.thickness > 0) {
+    double u, v;
+    closest_on_triangle(p, a, b, c, &u, &v);
+    u = dyadic_parameter(u);
+    v = dyadic_parameter(v);
+    if (u + v > 1) v = 1 - u;
+    if (within_at_start(contact, u, v, settings.thickness)) {
+      *result = make_result(CcdAnswer::kYes, 0, 0);
+      return true;
+    }
+  } else if (exact && moves_together(x)) {
+    *result = make_result(CcdAnswer::kNo, 1, 1);
+    return true;
+  }
+  return false;
+}
+
+/// The early exits, the decisions by structure and, at thickness 0, the time
+/// search: true with *result set (the answer vertex_face_ccd gives) when they
+/// decide the query, false when only the (t, u, v) search can. Never throws.
 SNAG_HD_INLINE bool vertex_face_quick_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
                                           const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
                                           const CcdSettings& settings, CcdResult* result) {
   if (vertex_face_early_exit(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, result)) return true;
-  if (settings.thickness != 0) return false;
   const ccd_detail::VertexFaceContact contact{{p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1}};
+  if (vertex_face_structure(contact, settings, result)) return true;
+  if (settings.thickness != 0) return false;
   const Vec3 p[2] = {p_t0 - a_t0, p_t1 - a_t1}, b[2] = {b_t0 - a_t0, b_t1 - a_t1}, c[2] = {c_t0 - a_t0, c_t1 - a_t1};
   return ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, result);
 }
