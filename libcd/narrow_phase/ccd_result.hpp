@@ -14,7 +14,7 @@ struct CcdSettings {
   /// width to which the surface parameters are bisected).
   double time_tolerance = 1e-6;
   /// Boxes of (t, u, v) examined before giving up with kUncertain.
-  int max_iterations = 100000;
+  int max_iterations = 2048;
 };
 
 /// What floating point could prove about a pair.
