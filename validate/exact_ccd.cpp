@@ -48,6 +48,13 @@
 //
 // With d = 0 these are exactly "the closed primitives share a point".
 //
+// Decisions by structure, before any root isolation. C at t = 0 is read from
+// the signs of the atoms' constant coefficients (exact rationals): when it
+// holds, t* = 0 exactly. When it does not and every atom is a constant
+// polynomial (no motion, or all points translating together, so every
+// difference of two points is constant), C is the same at every t: no
+// contact.
+//
 // Why the earliest contact time is a candidate. Let S = { t in [0,1] : C(t) }.
 // S is closed (the distance is continuous in t). Let R be {0, 1} and the real
 // roots in [0, 1] of every atom that is not the zero polynomial. Between two
@@ -55,13 +62,29 @@
 // each such open interval. If t* = min S were not in R, it would lie in such
 // an interval on which C is true, and S would hold times earlier than t*.
 // Hence t* is in R: testing C at the elements of R in increasing order and
-// stopping at the first true one yields t* exactly.
-// For d = 0 a shortcut: contact implies that the four points are coplanar,
-// that is the "coplanarity cubic" det(b - a, c - a, p - a) (VF) or
-// det(da, db, w) (EE) vanishes. When that cubic is not the zero polynomial, S
-// lies within its roots in [0, 1], so these (at most three) are the only
-// candidates. When it is the zero polynomial (coplanar for the whole step)
-// the full set R is used.
+// stopping at the first true one yields t* exactly. R is the fallback; the
+// candidates used are smaller sets that still hold t* (with t* = 0 already
+// excluded above):
+//  - d = 0 and the coplanarity cubic det(b - a, c - a, p - a) (VF) or
+//    det(da, db, w) (EE) not the zero polynomial: contact implies that the
+//    four points are coplanar, so S lies within the cubic's roots in [0, 1]
+//    (at most three candidates).
+//  - otherwise, the roots in [0, 1] of the "distance atoms": the point–point
+//    atoms, the off_line atoms, and (d > 0 only) the off_plane atom. Let
+//    D(t) be the distance of the closed primitives, continuous in t. For
+//    t* > 0, D > d on [0, t*) and D(t*) <= d, so D(t*) = d. At t* the
+//    closest pair is given by one piece of C: the projection inside the
+//    triangle or the lines' interior point (off_plane = 0 there), an end
+//    point (point–point atom = 0) or a foot inside a segment (off_line = 0).
+//    For d = 0 with the cubic the zero polynomial (coplanar for the whole
+//    step) off_plane is identically 0 and is left out: there the interior
+//    piece cannot be the one that starts the contact, because its conditions
+//    (|n|^2 > 0 and strict barycentric or segment-parameter inequalities) are
+//    open and would then hold, with off_plane = 0, just before t*; so at t*
+//    an end point lies on the other feature (for parallel or collinear
+//    segments too: their common part is bounded by end points), where a
+//    point–point or an off_line atom vanishes. When a distance atom used is
+//    the zero polynomial, its roots are not isolated points and R is used.
 //
 // Why the test at a candidate is exact. Each candidate is an algebraic real
 // given by a square-free integer polynomial and an isolating interval with
@@ -238,6 +261,19 @@ class SignsAt {
   std::vector<signed char> signs_;
 };
 
+/// Signs of the atoms at t = 0: the signs of their constant coefficients.
+class SignsAtStart {
+ public:
+  explicit SignsAtStart(const SignSystem& system) : system_(system) {}
+  int operator()(int atom) const {
+    const Poly& p = system_.poly(static_cast<std::size_t>(atom));
+    return p.empty() ? 0 : CGAL::sign(p[0]);
+  }
+
+ private:
+  const SignSystem& system_;
+};
+
 struct PointPointAtoms {
   int distance;  // |p - a|^2 - d^2, <= 0
 };
@@ -326,15 +362,18 @@ SegmentSegmentAtoms add_segment_segment(SignSystem& system, const PolyVec3& a0, 
   return atoms;
 }
 
-bool holds(const PointPointAtoms& atoms, SignsAt& sign) { return sign(atoms.distance) <= 0; }
+template <class Sign>
+bool holds(const PointPointAtoms& atoms, Sign& sign) { return sign(atoms.distance) <= 0; }
 
-bool holds(const PointSegmentAtoms& atoms, SignsAt& sign) {
+template <class Sign>
+bool holds(const PointSegmentAtoms& atoms, Sign& sign) {
   if (holds(atoms.end_a, sign) || holds(atoms.end_b, sign)) return true;
   return sign(atoms.length) > 0 && sign(atoms.along) >= 0 && sign(atoms.along_rest) >= 0 &&
          sign(atoms.off_line) <= 0;
 }
 
-bool holds(const PointTriangleAtoms& atoms, SignsAt& sign) {
+template <class Sign>
+bool holds(const PointTriangleAtoms& atoms, Sign& sign) {
   if (sign(atoms.normal) > 0 && sign(atoms.off_plane) <= 0 && sign(atoms.barycentric[0]) >= 0 &&
       sign(atoms.barycentric[1]) >= 0 && sign(atoms.barycentric[2]) >= 0)
     return true;
@@ -343,13 +382,35 @@ bool holds(const PointTriangleAtoms& atoms, SignsAt& sign) {
   return false;
 }
 
-bool holds(const SegmentSegmentAtoms& atoms, SignsAt& sign) {
+template <class Sign>
+bool holds(const SegmentSegmentAtoms& atoms, Sign& sign) {
   if (sign(atoms.normal) > 0 && sign(atoms.off_plane) <= 0 && sign(atoms.along_a) >= 0 &&
       sign(atoms.along_a_rest) >= 0 && sign(atoms.along_b) >= 0 && sign(atoms.along_b_rest) >= 0)
     return true;
   for (const auto& end : atoms.ends)
     if (holds(end, sign)) return true;
   return false;
+}
+
+// The distance atoms: those that vanish where the distance of the closest
+// pair is exactly d (see the file comment); the plane atom only when
+// `with_plane`.
+void append_distance_atoms(const PointPointAtoms& atoms, std::vector<int>& out) { out.push_back(atoms.distance); }
+
+void append_distance_atoms(const PointSegmentAtoms& atoms, std::vector<int>& out) {
+  append_distance_atoms(atoms.end_a, out);
+  append_distance_atoms(atoms.end_b, out);
+  out.push_back(atoms.off_line);
+}
+
+void append_distance_atoms(const PointTriangleAtoms& atoms, bool with_plane, std::vector<int>& out) {
+  if (with_plane) out.push_back(atoms.off_plane);
+  for (const auto& edge : atoms.edges) append_distance_atoms(edge, out);
+}
+
+void append_distance_atoms(const SegmentSegmentAtoms& atoms, bool with_plane, std::vector<int>& out) {
+  if (with_plane) out.push_back(atoms.off_plane);
+  for (const auto& end : atoms.ends) append_distance_atoms(end, out);
 }
 
 // ---------------------------------------------------------------------------
@@ -388,17 +449,46 @@ ExactCcdResult describe_contact(const AlgebraicReal& toi, double toi_width) {
   return result;
 }
 
+/// A contact at exactly t = 0.
+ExactCcdResult contact_at_start() {
+  ExactCcdResult result;
+  result.collides = true;
+  result.toi_lo = result.toi_hi = 0;
+  result.toi_lo_exact = result.toi_hi_exact = to_text(Rational(0));
+  return result;
+}
+
 template <class Atoms>
 ExactCcdResult earliest_contact(const SignSystem& system, const Atoms& atoms,
                                 const Poly& coplanarity, bool zero_thickness, double toi_width) {
+  // Decided by structure: contact at t = 0, or atoms that never change sign.
+  SignsAtStart sign_at_start(system);
+  if (holds(atoms, sign_at_start)) return contact_at_start();
+  bool all_constant = true;
+  for (std::size_t i = 0; i < system.size() && all_constant; ++i) all_constant = system.poly(i).size() <= 1;
+  if (all_constant) return {};
+
   std::vector<AlgebraicReal> candidates;
   if (zero_thickness && !coplanarity.empty()) {
     append_roots_in_unit_interval(coplanarity, candidates);
   } else {
-    candidates.push_back(AlgebraicKernel::Construct_algebraic_real_1()(0));
-    candidates.push_back(AlgebraicKernel::Construct_algebraic_real_1()(1));
-    for (std::size_t i = 0; i < system.size(); ++i)
-      append_roots_in_unit_interval(system.poly(i), candidates);
+    std::vector<int> distance_atoms;
+    append_distance_atoms(atoms, !zero_thickness, distance_atoms);
+    std::vector<const Poly*> distinct;  // the same atom appears for two edges
+    bool vanishing = false;              // a distance atom is the zero polynomial
+    for (int atom : distance_atoms) {
+      const Poly& p = system.poly(static_cast<std::size_t>(atom));
+      vanishing = vanishing || p.empty();
+      if (std::none_of(distinct.begin(), distinct.end(), [&p](const Poly* q) { return *q == p; }))
+        distinct.push_back(&p);
+    }
+    if (vanishing) {
+      candidates.push_back(AlgebraicKernel::Construct_algebraic_real_1()(1));
+      for (std::size_t i = 0; i < system.size(); ++i)
+        append_roots_in_unit_interval(system.poly(i), candidates);
+    } else {
+      for (const Poly* p : distinct) append_roots_in_unit_interval(*p, candidates);
+    }
   }
   sort_unique(candidates);
   for (const auto& t : candidates) {

@@ -349,6 +349,75 @@ TEST(ExactCcd, AgreesWithCgalPredicatesOnSmallIntegerEdgeEdgeMotions) {
                                     edge_edge_contact_at);
 }
 
+// Within distance d at time t, by CGAL's exact squared distances (the
+// degenerate features as the points and segments they are).
+Epeck::FT squared_distance_to_segment(const Point& p, const Point& a, const Point& b) {
+  return a == b ? CGAL::squared_distance(p, a) : CGAL::squared_distance(p, Epeck::Segment_3(a, b));
+}
+
+bool vertex_face_within_at(const Points& q, const Rational& t, const Epeck::FT& d2) {
+  const Point p = at(q[0], q[4], t), a = at(q[1], q[5], t), b = at(q[2], q[6], t), c = at(q[3], q[7], t);
+  if (!CGAL::collinear(a, b, c)) return CGAL::squared_distance(p, Epeck::Triangle_3(a, b, c)) <= d2;
+  return squared_distance_to_segment(p, a, b) <= d2 || squared_distance_to_segment(p, b, c) <= d2 ||
+         squared_distance_to_segment(p, c, a) <= d2;
+}
+
+bool edge_edge_within_at(const Points& q, const Rational& t, const Epeck::FT& d2) {
+  const Point a0 = at(q[0], q[4], t), a1 = at(q[1], q[5], t), b0 = at(q[2], q[6], t), b1 = at(q[3], q[7], t);
+  if (a0 == a1) return squared_distance_to_segment(a0, b0, b1) <= d2;
+  if (b0 == b1) return squared_distance_to_segment(b0, a0, a1) <= d2;
+  return CGAL::squared_distance(Epeck::Segment_3(a0, a1), Epeck::Segment_3(b0, b1)) <= d2;
+}
+
+// At a thickness the earliest contact is where the distance first reaches d:
+// checked against CGAL's exact distances at the grid times, on small integer
+// motions rich in degeneracies (shared points, parallel and collinear
+// features, zero motion).
+template <class Ccd, class Within>
+void cross_check_thick_small_integer_motions(Ccd ccd, Within within_at) {
+  std::mt19937 rng(4242);
+  std::uniform_int_distribution<int> coordinate(-2, 2);
+  const auto times = grid_times();
+  const double d = 0.25;
+  const Epeck::FT d2 = exact_ft(Rational(1, 16));
+  int colliding = 0, grid_contacts = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Points q;
+    for (auto& p : q) p = {double(coordinate(rng)), double(coordinate(rng)), double(coordinate(rng))};
+    if (trial % 3 == 0) {
+      for (int k = 0; k < 4; ++k) q[4 + k] = q[k];  // no motion
+    }
+    const ExactCcdResult r = ccd(q, d);
+    colliding += r.collides;
+    const Rational lo = r.collides ? Rational(r.toi_lo_exact) : Rational(2);
+    for (const auto& t : times) {
+      if (!within_at(q, t, d2)) continue;
+      ++grid_contacts;
+      ASSERT_TRUE(r.collides) << "trial " << trial << " t " << t;
+      EXPECT_LE(lo, t) << "trial " << trial;
+      break;
+    }
+    if (!r.collides) continue;
+    for (const auto& t : times) {
+      if (t >= lo) break;
+      EXPECT_FALSE(within_at(q, t, d2)) << "trial " << trial << " t " << t;
+    }
+    if (r.toi_lo_exact == r.toi_hi_exact) EXPECT_TRUE(within_at(q, lo, d2)) << "trial " << trial;
+  }
+  std::cout << colliding << " of 300 within 1/4, " << grid_contacts << " at a grid time\n";
+  EXPECT_GT(colliding, 20);
+}
+
+TEST(ExactCcd, AgreesWithCgalDistancesOnSmallIntegerVertexFaceMotionsWithThickness) {
+  cross_check_thick_small_integer_motions([](const Points& q, double d) { return exact_vertex_face_ccd(q, d); },
+                                          vertex_face_within_at);
+}
+
+TEST(ExactCcd, AgreesWithCgalDistancesOnSmallIntegerEdgeEdgeMotionsWithThickness) {
+  cross_check_thick_small_integer_motions([](const Points& q, double d) { return exact_edge_edge_ccd(q, d); },
+                                          edge_edge_within_at);
+}
+
 template <class Ccd, class Contact>
 void cross_check_in_plane_motions(Ccd ccd, Contact contact_at) {
   // Everything in the plane z = 0 for the whole step: contacts last a while,
