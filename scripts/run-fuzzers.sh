@@ -2,7 +2,12 @@
 # Builds the libFuzzer targets (clang, address + undefined sanitizers) in
 # build-fuzz/ and runs each for a fixed time from its seed corpus in
 # fuzz/corpus/<format>/. New inputs go to build-fuzz/corpus/<format>/ so the
-# committed seeds stay small. Usage: scripts/run-fuzzers.sh [seconds per target]
+# committed seeds stay small. Then each target runs once over every file of
+# fuzz/corpus-degenerate/<format>/ (degenerate meshes: collapsed triangles,
+# coincident vertices, zero-length edges, huge and tiny coordinates, repeated
+# indices; libFuzzer's -runs=0 executes each file of a directory once), and
+# any problem found there fails the script too.
+# Usage: scripts/run-fuzzers.sh [seconds per target]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-20}"
@@ -24,5 +29,15 @@ for format in "${formats[@]}"; do
     status=1
   fi
   tail -n 1 "$build/fuzz_$format.log"
+  degenerate="$root/fuzz/corpus-degenerate/$format"
+  if [[ -d "$degenerate" ]]; then
+    echo "== fuzz_$format over $(find "$degenerate" -type f | wc -l) degenerate files"
+    if ! "$build/fuzz/fuzz_$format" -runs=0 -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
+        -artifact_prefix="$build/crash-degenerate-$format-" "$degenerate" 2>"$build/fuzz_${format}_degenerate.log"; then
+      echo "fuzz_$format failed on a degenerate file: see $build/fuzz_${format}_degenerate.log"
+      status=1
+    fi
+    tail -n 1 "$build/fuzz_${format}_degenerate.log"
+  fi
 done
 exit $status
