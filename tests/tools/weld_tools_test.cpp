@@ -3,7 +3,10 @@
 // event; welded, only the real contacts remain, reports name the file's
 // vertex ids, snag-verify maps them back, and snag-info says what was joined.
 // Also: an interrupted scan leaves an earlier report as it was.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -163,6 +166,43 @@ TEST(ReportFile, AnInterruptedScanLeavesTheEarlierReport) {
     for (const auto& entry : std::filesystem::directory_iterator(dir.path())) files += entry.exists();
     EXPECT_EQ(files, 1u) << "the temporary report was left behind";
   }
+}
+
+TEST_F(SplitCubes, AReportToAPipeIsWrittenIntoThePipe) {
+  // A destination that is not a regular file (a pipe here; /dev/null or a
+  // shell's process substitution alike) cannot be replaced: the report goes
+  // into it, and the pipe stays a pipe.
+  const std::string fifo = dir_->path("report.fifo");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const int reader = open(fifo.c_str(), O_RDONLY | O_NONBLOCK);  // lets the writer open it at once
+  ASSERT_GE(reader, 0);
+  const ProcessResult run =
+      run_process(SNAG_SCAN_EXE, {pattern(), "--weld", "exact", "-q", "--fail-on", "0", "-r", fifo}, {kTimeout});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  std::string text;
+  char buffer[4096];
+  for (ssize_t n; (n = read(reader, buffer, sizeof buffer)) > 0;) text.append(buffer, static_cast<std::size_t>(n));
+  close(reader);
+  struct stat after {};
+  ASSERT_EQ(stat(fifo.c_str(), &after), 0);
+  EXPECT_TRUE(S_ISFIFO(after.st_mode));
+  ASSERT_FALSE(text.empty()) << "nothing came through the pipe";
+  EXPECT_EQ(json::parse(text)["summary"]["intersections"].get<std::size_t>(),
+            scan({"--weld", "exact"}, dir_->path("plain.json"))["summary"]["intersections"].get<std::size_t>());
+}
+
+TEST_F(SplitCubes, AReportThroughASymbolicLinkReplacesItsTarget) {
+  const std::string target = dir_->write("reports/target.json", "the earlier report\n");
+  const std::string link = dir_->path("link.json");
+  ASSERT_EQ(symlink(target.c_str(), link.c_str()), 0);
+  const json report = scan({"--weld", "exact"}, link);
+  struct stat after {};
+  ASSERT_EQ(lstat(link.c_str(), &after), 0);
+  EXPECT_TRUE(S_ISLNK(after.st_mode));
+  EXPECT_EQ(json::parse(read_file(target)), report);
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_->path("reports"))) files += entry.exists();
+  EXPECT_EQ(files, 1u);
 }
 
 TEST(ReportFile, AReportThatCannotBeWrittenFailsBeforeTheScan) {

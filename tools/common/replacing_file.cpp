@@ -53,9 +53,26 @@ mode_t new_file_mode() {
 
 ReplacingFile::ReplacingFile(const std::string& path) : path_(path) {
   assert(!g_active);
-  const std::size_t slash = path.find_last_of('/');
-  const std::string directory = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  struct stat existing {};
+  if (stat(path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode)) {
+    // A device, a pipe or a socket (/dev/null, /dev/stdout, a shell's
+    // process substitution) is written in place: it cannot be replaced, and
+    // renaming over it would put a plain file in its stead.
+    out_.open(path, std::ios::binary);
+    if (!out_) throw UsageError("cannot write '" + path + "': " + std::strerror(errno));
+    in_place_ = true;
+    return;
+  }
+  // A symbolic link to a file: replace the file, and keep the link.
+  if (char* resolved = realpath(path.c_str(), nullptr)) {
+    path_ = resolved;
+    std::free(resolved);
+  }
+  mode_t mode = new_file_mode();
+  if (stat(path_.c_str(), &existing) == 0) mode = existing.st_mode & 07777;  // keep an earlier file's permissions
+  const std::size_t slash = path_.find_last_of('/');
+  const std::string directory = slash == std::string::npos ? "" : path_.substr(0, slash + 1);
+  const std::string name = slash == std::string::npos ? path_ : path_.substr(slash + 1);
   temporary_ = directory + "." + name + ".XXXXXX";
   if (name.empty() || temporary_.size() >= sizeof g_temporary) {
     throw UsageError("cannot write '" + path + "': not a file name");
@@ -65,7 +82,7 @@ ReplacingFile::ReplacingFile(const std::string& path) : path_(path) {
   const int fd = mkstemp(buffer.data());
   if (fd < 0) throw UsageError("cannot write '" + path + "': " + std::strerror(errno));
   temporary_ = buffer.data();
-  const bool moded = fchmod(fd, new_file_mode()) == 0;
+  const bool moded = fchmod(fd, mode) == 0;
   close(fd);
   std::memcpy(g_temporary, temporary_.c_str(), temporary_.size() + 1);
   g_active = 1;
@@ -79,6 +96,7 @@ ReplacingFile::ReplacingFile(const std::string& path) : path_(path) {
 }
 
 ReplacingFile::~ReplacingFile() {
+  if (in_place_) return;
   if (!committed_) {
     out_.close();
     unlink(temporary_.c_str());
@@ -93,6 +111,8 @@ void ReplacingFile::commit() {
   const bool written = static_cast<bool>(out_);
   out_.close();
   if (!written || out_.fail()) throw UsageError("cannot write '" + path_ + "': writing failed (disk full?)");
+  committed_ = in_place_;
+  if (in_place_) return;
   if (std::rename(temporary_.c_str(), path_.c_str()) != 0) {
     throw UsageError("cannot write '" + path_ + "': " + std::strerror(errno));
   }

@@ -1,7 +1,9 @@
 // An output file that replaces its destination only when complete: written to
 // a temporary file beside it and renamed over it at the end. Until then an
 // earlier file at the destination is untouched, whatever happens to the run:
-// an exception, SIGINT or SIGTERM removes the temporary file.
+// an exception, SIGINT or SIGTERM removes the temporary file. A destination
+// that is a symbolic link has its target replaced; one that is not a regular
+// file (a device such as /dev/null, a pipe, a socket) is written in place.
 #pragma once
 
 #include <fstream>
@@ -22,8 +24,8 @@ class ReplacingFile {
 
   /// Where to write the content.
   std::ostream& stream() { return out_; }
-  /// Flushes, closes, and renames the temporary file to the destination (the
-  /// permissions a new file would get: 0666 less the umask). Throws
+  /// Flushes, closes, and renames the temporary file to the destination (with
+  /// an earlier file's permissions, else 0666 less the umask). Throws
   /// UsageError naming the destination when writing or renaming failed.
   void commit();
 
@@ -31,6 +33,7 @@ class ReplacingFile {
   std::string path_, temporary_;
   std::ofstream out_;
   bool committed_ = false;
+  bool in_place_ = false;  ///< written straight to a destination that is not a regular file
 };
 
 }  // namespace snag::tools
