@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config git
-  libtbb-dev libcli11-dev nlohmann-json3-dev libeigen3-dev
+  libtbb-dev libcli11-dev nlohmann-json3-dev libeigen3-dev libsimdjson-dev libyaml-cpp-dev
   libassimp-dev
   libcgal-dev libgmp-dev libmpfr-dev
   libopenvdb-dev libboost-iostreams-dev

@@ -75,10 +75,10 @@ void PipelineStats::add(const PipelineStats& other) {
   add_narrow(narrow, other.narrow);
 }
 
-ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSettings& settings,
+ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSettings& settings, ScanSink& sink,
                       const ProgressCallback& progress) {
   const auto start = Clock::now();
-  ScanResult result;
+  ScanTotals totals;
   const std::size_t frame_count = source.frame_count();
   const bool detect = settings.collisions || settings.intersections;
   // Frame i lives in frames[i % 3]: while frames f and f + 1 are in use,
@@ -92,11 +92,11 @@ ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       return seconds_since(read_start);
     });
   };
-  std::vector<Event> found;
+  std::vector<Event> found, frame_events;
   if (frame_count > 0) {
     const auto read_start = Clock::now();
     source.read_frame(0, frames[0]);
-    result.read_seconds += seconds_since(read_start);
+    totals.read_seconds += seconds_since(read_start);
     if (frame_count > 1 && detect) read_ahead(1);
   }
   for (std::size_t f = 0; f < frame_count; ++f) {
@@ -104,38 +104,75 @@ ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSet
     const std::vector<Vec3>& next = frames[(f + 1) % 3];
     const bool has_next = f + 1 < frame_count && detect;
     if (has_next) {
-      result.read_seconds += reading.get();
+      totals.read_seconds += reading.get();
       if (settings.collisions) backend.prepare(next);
       if (f + 2 < frame_count) read_ahead(f + 2);
     }
-    FrameSummary summary;
-    summary.frame = source.frame_index(f);
+    ScannedFrame done;
+    done.position = f;
+    done.time = source.frame_time(f);
+    done.summary.frame = source.frame_index(f);
+    frame_events.clear();
     if (settings.intersections) {
       found.clear();
       backend.intersections(current, found);
-      result.stats.add(backend.stats());
-      for (Event& event : found) event.frame = summary.frame;
-      summary.intersections = found.size();
-      result.events.insert(result.events.end(), found.begin(), found.end());
+      totals.stats.add(backend.stats());
+      for (Event& event : found) event.frame = done.summary.frame;
+      done.summary.intersections = found.size();
+      frame_events.insert(frame_events.end(), found.begin(), found.end());
     }
     if (settings.collisions && has_next) {
       found.clear();
       backend.collisions(current, next, found);
-      result.stats.add(backend.stats());
+      totals.stats.add(backend.stats());
       for (Event& event : found) {
-        event.frame = summary.frame;
-        ++summary.collisions;
-        summary.vertex_face += event.type == ContactType::kVertexFace;
-        summary.edge_edge += event.type == ContactType::kEdgeEdge;
-        summary.uncertain += event.certainty == Certainty::kUncertain;
+        event.frame = done.summary.frame;
+        ++done.summary.collisions;
+        done.summary.vertex_face += event.type == ContactType::kVertexFace;
+        done.summary.edge_edge += event.type == ContactType::kEdgeEdge;
+        done.summary.uncertain += event.certainty == Certainty::kUncertain;
       }
-      result.events.insert(result.events.end(), found.begin(), found.end());
+      frame_events.insert(frame_events.end(), found.begin(), found.end());
     }
-    result.frames.push_back(summary);
+    // Both lists are in event_order; collisions come first in it.
+    std::stable_sort(frame_events.begin(), frame_events.end(), event_order);
+    done.events = &frame_events;
+    done.x = &current;
+    done.x_next = has_next ? &next : nullptr;
+    const auto sink_start = Clock::now();
+    sink.frame(done);
+    totals.sink_seconds += seconds_since(sink_start);
+    ++totals.frames;
     if (progress) progress(f + 1, frame_count);
   }
-  std::stable_sort(result.events.begin(), result.events.end(), event_order);
-  result.total_seconds = seconds_since(start);
+  totals.total_seconds = seconds_since(start);
+  return totals;
+}
+
+namespace {
+
+class CollectingSink : public ScanSink {
+ public:
+  explicit CollectingSink(ScanResult& result) : result_(result) {}
+  void frame(ScannedFrame& frame) override {
+    result_.frames.push_back(frame.summary);
+    result_.events.insert(result_.events.end(), frame.events->begin(), frame.events->end());
+  }
+
+ private:
+  ScanResult& result_;
+};
+
+}  // namespace
+
+ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSettings& settings,
+                      const ProgressCallback& progress) {
+  ScanResult result;
+  CollectingSink sink(result);
+  const ScanTotals totals = scan_cache(source, backend, settings, sink, progress);
+  result.stats = totals.stats;
+  result.read_seconds = totals.read_seconds;
+  result.total_seconds = totals.total_seconds;
   return result;
 }
 

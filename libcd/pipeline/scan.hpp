@@ -31,18 +31,55 @@ struct FrameSummary {
   std::size_t intersections = 0;
 };
 
-struct ScanResult {
-  std::vector<Event> events;  ///< in event_order
-  std::vector<FrameSummary> frames;
+/// One frame's results, as the scan hands them to a ScanSink.
+struct ScannedFrame {
+  std::size_t position = 0;       ///< 0-based position in the source
+  double time = 0;                ///< FrameSource::frame_time
+  FrameSummary summary;
+  /// The frame's intersections and the collisions of the step that starts at
+  /// it (frame set), in event_order. The sink may reorder or remove them.
+  std::vector<Event>* events = nullptr;
+  const std::vector<Vec3>* x = nullptr;       ///< the frame's positions
+  const std::vector<Vec3>* x_next = nullptr;  ///< the next frame's, when there is a step; else null
+};
+
+/// Receives each frame as soon as it is done, in frame order, on the thread
+/// that called scan_cache. Nothing is kept between calls: what the sink
+/// keeps is what the scan holds.
+class ScanSink {
+ public:
+  virtual ~ScanSink() = default;
+  virtual void frame(ScannedFrame& frame) = 0;
+};
+
+/// What the scan adds up: counts and times, never events.
+struct ScanTotals {
+  std::size_t frames = 0;
   PipelineStats stats;        ///< summed over all frames and steps
   double read_seconds = 0;    ///< time spent reading frames (overlapping detection)
+  double sink_seconds = 0;    ///< time spent in the sink (writing the report)
   double total_seconds = 0;
 };
 
 /// Called after each frame is done with (frame index, frame count).
 using ProgressCallback = std::function<void(std::size_t, std::size_t)>;
 
-/// Scans every frame of `source` with `backend`. Throws what the source throws.
+/// Scans every frame of `source` with `backend`, handing each frame to
+/// `sink`. Memory does not grow with the number of frames. Throws what the
+/// source or the sink throws.
+ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSettings& settings, ScanSink& sink,
+                      const ProgressCallback& progress = {});
+
+/// Every event and frame summary of a scan, kept in memory: for tests and
+/// benchmarks on small caches.
+struct ScanResult {
+  std::vector<Event> events;  ///< in event_order
+  std::vector<FrameSummary> frames;
+  PipelineStats stats;
+  double read_seconds = 0;
+  double total_seconds = 0;
+};
+
 ScanResult scan_cache(const FrameSource& source, Backend& backend, const ScanSettings& settings,
                       const ProgressCallback& progress = {});
 

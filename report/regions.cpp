@@ -1,0 +1,331 @@
+#include "report/regions.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+
+namespace snag::report {
+
+namespace {
+
+struct Group {
+  std::vector<std::size_t> events;
+};
+
+std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Event& e) {
+  std::size_t a = 0, b = 0;
+  if (e.kind == EventKind::kIntersection) {
+    a = scene.object_of_triangle(e.a);
+    b = scene.object_of_triangle(e.b);
+  } else if (e.type == ContactType::kVertexFace) {
+    a = scene.object_of_vertex(e.a);
+    b = scene.object_of_triangle(e.b);
+  } else {
+    a = scene.object_of_edge(e.a);
+    b = scene.object_of_edge(e.b);
+  }
+  return {std::min(a, b), std::max(a, b)};
+}
+
+void grow(Bounds& bounds, const Vec3& p) {
+  bounds.lo = {std::min(bounds.lo.x, p.x), std::min(bounds.lo.y, p.y), std::min(bounds.lo.z, p.z)};
+  bounds.hi = {std::max(bounds.hi.x, p.x), std::max(bounds.hi.y, p.y), std::max(bounds.hi.z, p.z)};
+}
+
+Bounds empty_bounds() {
+  const double inf = std::numeric_limits<double>::infinity();
+  return {{inf, inf, inf}, {-inf, -inf, -inf}};
+}
+
+}  // namespace
+
+RegionBuilder::RegionBuilder(const Scene& scene)
+    : scene_(scene),
+      face_stamp_(scene.triangle_count(), 0),
+      vertex_stamp_(scene.vertex_count(), 0),
+      face_slot_(scene.triangle_count(), 0),
+      vertex_first_face_slot_(scene.vertex_count(), 0) {
+  const auto& triangles = scene.triangles();
+  vertex_face_start_.assign(scene.vertex_count() + 1, 0);
+  for (const Triangle& t : triangles)
+    for (Index v : t) ++vertex_face_start_[v + 1];
+  std::partial_sum(vertex_face_start_.begin(), vertex_face_start_.end(), vertex_face_start_.begin());
+  vertex_faces_.resize(vertex_face_start_.back());
+  std::vector<Index> fill(vertex_face_start_.begin(), vertex_face_start_.end() - 1);
+  for (Index f = 0; f < triangles.size(); ++f)
+    for (Index v : triangles[f]) vertex_faces_[fill[v]++] = f;
+}
+
+void RegionBuilder::event_faces(const Event& e, std::vector<Index>& faces) const {
+  faces.clear();
+  auto around_vertex = [&](Index v) {
+    for (Index k = vertex_face_start_[v]; k < vertex_face_start_[v + 1]; ++k) faces.push_back(vertex_faces_[k]);
+  };
+  auto on_edge = [&](Index e) {
+    const Edge& edge = scene_.edges()[e];
+    for (Index k = vertex_face_start_[edge[0]]; k < vertex_face_start_[edge[0] + 1]; ++k) {
+      const Triangle& t = scene_.triangles()[vertex_faces_[k]];
+      if (t[0] == edge[1] || t[1] == edge[1] || t[2] == edge[1]) faces.push_back(vertex_faces_[k]);
+    }
+  };
+  if (e.kind == EventKind::kIntersection) {
+    faces.push_back(e.a);
+    faces.push_back(e.b);
+  } else if (e.type == ContactType::kVertexFace) {
+    faces.push_back(e.b);
+    around_vertex(e.a);
+  } else {
+    on_edge(e.a);
+    on_edge(e.b);
+  }
+}
+
+Index RegionBuilder::find(Index slot) {
+  while (parent_[slot] != slot) {
+    parent_[slot] = parent_[parent_[slot]];
+    slot = parent_[slot];
+  }
+  return slot;
+}
+
+void RegionBuilder::build(const std::vector<Event>& events, const std::vector<char>& in_region,
+                          const std::vector<Vec3>& x, std::size_t frame, std::vector<RegionRecord>& regions,
+                          std::vector<std::size_t>& region_of) {
+  region_of.assign(events.size(), kNone);
+  std::map<std::tuple<int, std::size_t, std::size_t>, Group> groups;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    if (!in_region[i]) continue;
+    const auto [a, b] = event_objects(scene_, events[i]);
+    groups[{static_cast<int>(events[i].kind), a, b}].events.push_back(i);
+  }
+  const std::size_t first_region = regions.size();
+  std::vector<std::size_t> first_event;  // of each new region
+  std::vector<Index> faces;
+  std::vector<Index> event_slot;
+  for (const auto& [key, group] : groups) {
+    const EventKind kind = static_cast<EventKind>(std::get<0>(key));
+    const std::size_t object_a = std::get<1>(key), object_b = std::get<2>(key);
+    ++stamp_;
+    parent_.clear();
+    slot_face_.clear();
+    event_slot.clear();
+    auto unite = [&](Index s, Index t) {
+      s = find(s);
+      t = find(t);
+      if (s != t) parent_[std::max(s, t)] = std::min(s, t);
+    };
+    for (std::size_t i : group.events) {
+      event_faces(events[i], faces);
+      Index first_slot = 0;
+      for (std::size_t k = 0; k < faces.size(); ++k) {
+        const Index f = faces[k];
+        if (face_stamp_[f] != stamp_) {
+          face_stamp_[f] = stamp_;
+          face_slot_[f] = static_cast<Index>(slot_face_.size());
+          parent_.push_back(face_slot_[f]);
+          slot_face_.push_back(f);
+          for (Index v : scene_.triangles()[f]) {
+            if (vertex_stamp_[v] != stamp_) {
+              vertex_stamp_[v] = stamp_;
+              vertex_first_face_slot_[v] = face_slot_[f];
+            } else {
+              unite(face_slot_[f], vertex_first_face_slot_[v]);
+            }
+          }
+        }
+        if (k == 0) {
+          first_slot = face_slot_[f];
+        } else {
+          unite(first_slot, face_slot_[f]);
+        }
+      }
+      event_slot.push_back(first_slot);
+    }
+    // One region per component, in the order of its first event.
+    std::vector<std::size_t> region_of_root(slot_face_.size(), kNone);
+    for (std::size_t k = 0; k < group.events.size(); ++k) {
+      const std::size_t i = group.events[k];
+      const Index root = find(event_slot[k]);
+      if (region_of_root[root] == kNone) {
+        region_of_root[root] = regions.size();
+        RegionRecord region;
+        region.kind = kind;
+        region.object_a = object_a;
+        region.object_b = object_b;
+        region.frame = frame;
+        region.bounds = empty_bounds();
+        region.toi = std::numeric_limits<double>::infinity();
+        regions.push_back(std::move(region));
+        first_event.push_back(i);
+      }
+      RegionRecord& region = regions[region_of_root[root]];
+      const Event& e = events[i];
+      region_of[i] = region_of_root[root];
+      ++region.events;
+      region.centroid = region.centroid + e.position;
+      if (kind == EventKind::kCollision) {
+        grow(region.bounds, e.position);
+        region.toi = std::min(region.toi, static_cast<double>(e.frame) + e.toi_lo);
+      }
+    }
+    const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
+    for (Index slot = 0; slot < slot_face_.size(); ++slot) {
+      RegionRecord& region = regions[region_of_root[find(slot)]];
+      const Index f = slot_face_[slot];
+      const bool on_a = scene_.object_of_triangle(f) == object_a;
+      if (on_a) {
+        region.faces_a.push_back(f - base_a);
+      } else {
+        region.faces_b.push_back(f - base_b);
+      }
+      if (kind == EventKind::kIntersection) {
+        for (Index v : scene_.triangles()[f]) grow(region.bounds, x[v]);
+      }
+    }
+  }
+  // Order the frame's regions by their first event, so that ids follow the event order.
+  const std::size_t count = regions.size() - first_region;
+  std::vector<std::size_t> order(count);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t p, std::size_t q) { return first_event[p] < first_event[q]; });
+  std::vector<std::size_t> new_index(count);
+  std::vector<RegionRecord> sorted;
+  sorted.reserve(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    new_index[order[k]] = first_region + k;
+    sorted.push_back(std::move(regions[first_region + order[k]]));
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    RegionRecord& region = sorted[k];
+    std::sort(region.faces_a.begin(), region.faces_a.end());
+    std::sort(region.faces_b.begin(), region.faces_b.end());
+    region.centroid = (1.0 / static_cast<double>(region.events)) * region.centroid;
+    regions[first_region + k] = std::move(region);
+  }
+  for (std::size_t& r : region_of)
+    if (r != kNone) r = new_index[r - first_region];
+}
+
+TrackBuilder::TrackBuilder(const Scene& scene) : scene_(scene) {}
+
+TrackBuilder::FaceKey TrackBuilder::key(const RegionRecord& r, std::size_t object, std::size_t local_face) const {
+  const std::size_t objects = scene_.objects().size();
+  const std::uint64_t pair = r.object_a * objects + r.object_b;
+  const std::uint64_t face = scene_.triangle_offset(object) + local_face;
+  return ((pair * 2 + (r.kind == EventKind::kCollision ? 1 : 0)) << 32) | face;
+}
+
+void TrackBuilder::add_frame(std::size_t position, std::size_t frame, std::vector<RegionRecord>& regions,
+                             std::vector<TrackRecord>& ended) {
+  const std::size_t first_ended = ended.size();
+  const bool consecutive = last_position_ != kNone && position == last_position_ + 1;
+  if (!consecutive) last_faces_.clear();
+  last_position_ = position;
+
+  // The tracks of the last frame that each region shares a face with.
+  std::vector<std::vector<std::size_t>> touched(regions.size());
+  std::map<std::size_t, std::size_t> parent;  // union-find over touched track ids
+  auto find = [&](std::size_t t) {
+    while (parent[t] != t) t = parent[t];
+    return t;
+  };
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const RegionRecord& region = regions[r];
+    auto look = [&](std::size_t object, const std::vector<std::size_t>& faces) {
+      for (std::size_t f : faces) {
+        const FaceKey k = key(region, object, f);
+        auto it = std::lower_bound(last_faces_.begin(), last_faces_.end(), std::make_pair(k, std::size_t{0}));
+        if (it != last_faces_.end() && it->first == k) touched[r].push_back(it->second);
+      }
+    };
+    look(region.object_a, region.faces_a);
+    look(region.object_b, region.faces_b);
+    std::sort(touched[r].begin(), touched[r].end());
+    touched[r].erase(std::unique(touched[r].begin(), touched[r].end()), touched[r].end());
+    for (std::size_t t : touched[r]) parent.emplace(t, t);
+    for (std::size_t t : touched[r]) {
+      const std::size_t a = find(touched[r].front()), b = find(t);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  // Tracks that joined another: the smallest id of each class goes on with the others' counts.
+  for (auto& [t, p] : parent) {
+    const std::size_t root = find(t);
+    if (root == t) continue;
+    TrackRecord& merged = open_.at(t);
+    TrackRecord& survivor = open_.at(root);
+    merged.merged_into = root;
+    survivor.first_frame = std::min(survivor.first_frame, merged.first_frame);
+    survivor.frames = std::max(survivor.frames, merged.frames);
+    survivor.regions += merged.regions;
+    survivor.events += merged.events;
+    if (merged.max_faces > survivor.max_faces) {
+      survivor.max_faces = merged.max_faces;
+      survivor.worst_frame = merged.worst_frame;
+      survivor.centroid = merged.centroid;
+    }
+    grow(survivor.bounds, merged.bounds.lo);
+    grow(survivor.bounds, merged.bounds.hi);
+    survivor.toi = std::min(survivor.toi, merged.toi);
+  }
+  std::map<std::size_t, TrackRecord> going_on;
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    RegionRecord& region = regions[r];
+    std::size_t id = 0;
+    if (touched[r].empty()) {
+      id = next_id_++;
+      TrackRecord track;
+      track.id = id;
+      track.kind = region.kind;
+      track.object_a = region.object_a;
+      track.object_b = region.object_b;
+      track.first_frame = frame;
+      track.bounds = empty_bounds();
+      track.toi = std::numeric_limits<double>::infinity();
+      going_on.emplace(id, track);
+    } else {
+      id = find(touched[r].front());
+      if (!going_on.count(id)) {
+        TrackRecord track = open_.at(id);
+        ++track.frames;
+        going_on.emplace(id, track);
+      }
+    }
+    region.track = id;
+    TrackRecord& track = going_on.at(id);
+    if (track.frames == 0) track.frames = 1;
+    track.last_frame = frame;
+    ++track.regions;
+    track.events += region.events;
+    const std::size_t faces = region.faces_a.size() + region.faces_b.size();
+    if (faces > track.max_faces) {
+      track.max_faces = faces;
+      track.worst_frame = frame;
+      track.centroid = region.centroid;
+    }
+    grow(track.bounds, region.bounds.lo);
+    grow(track.bounds, region.bounds.hi);
+    if (region.kind == EventKind::kCollision) track.toi = std::min(track.toi, region.toi);
+  }
+  for (auto& [id, track] : open_)
+    if (!going_on.count(id)) ended.push_back(track);
+  std::sort(ended.begin() + static_cast<std::ptrdiff_t>(first_ended), ended.end(),
+            [](const TrackRecord& p, const TrackRecord& q) { return p.id < q.id; });
+  open_ = std::move(going_on);
+
+  last_faces_.clear();
+  for (const RegionRecord& region : regions) {
+    for (std::size_t f : region.faces_a) last_faces_.emplace_back(key(region, region.object_a, f), region.track);
+    for (std::size_t f : region.faces_b) last_faces_.emplace_back(key(region, region.object_b, f), region.track);
+  }
+  std::sort(last_faces_.begin(), last_faces_.end());
+}
+
+void TrackBuilder::finish(std::vector<TrackRecord>& ended) {
+  for (auto& [id, track] : open_) ended.push_back(track);
+  open_.clear();
+  last_faces_.clear();
+  last_position_ = kNone;
+}
+
+}  // namespace snag::report

@@ -1,0 +1,80 @@
+// Regions and tracks: what a person acts on instead of a flood of pairs.
+//
+// A region is a connected set of faces of one frame (intersections) or one
+// step (collisions) between one pair of objects: the faces of the events of
+// that pair and kind, joined when an event names both (two faces that
+// intersect; the faces of the elements of one collision) or when they share
+// a vertex. The faces of a collision's elements are the face of a
+// vertex–face pair with the faces around its vertex, and the faces on each
+// edge of an edge–edge pair.
+//
+// A track joins the regions of consecutive frames (positions in the scan)
+// that share a face, for the same pair of objects and kind. When a region
+// joins several tracks, the one with the smallest id goes on, takes in the
+// others' counts and frames, and the others end with `merged_into` set.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <tuple>
+#include <vector>
+
+#include "libcd/pipeline/event.hpp"
+#include "libcd/scene/scene.hpp"
+#include "report/records.hpp"
+
+namespace snag::report {
+
+/// Builds the regions of one frame. Holds scene-sized scratch arrays so that
+/// each frame costs time in the number of its events, not of the scene.
+class RegionBuilder {
+ public:
+  explicit RegionBuilder(const Scene& scene);
+
+  /// Groups events[i] with in_region[i] set (the checked ones) into regions
+  /// of frame `frame`, appended to `regions` in the order of their first
+  /// event (ids and tracks left 0 for the caller). region_of[i] is the index
+  /// in `regions` of event i's region, or kNone. x: the frame's positions.
+  void build(const std::vector<Event>& events, const std::vector<char>& in_region, const std::vector<Vec3>& x,
+             std::size_t frame, std::vector<RegionRecord>& regions, std::vector<std::size_t>& region_of);
+
+ private:
+  void event_faces(const Event& event, std::vector<Index>& faces) const;
+  Index find(Index slot);
+
+  const Scene& scene_;
+  std::vector<Index> vertex_face_start_, vertex_faces_;  // CSR: faces around each vertex
+  // Scratch, stamped per group so that it is never cleared.
+  std::vector<std::uint32_t> face_stamp_, vertex_stamp_;
+  std::vector<Index> face_slot_, vertex_first_face_slot_;
+  std::uint32_t stamp_ = 0;
+  std::vector<Index> parent_, slot_face_;
+};
+
+/// Gives regions their track ids frame after frame and says when tracks end.
+class TrackBuilder {
+ public:
+  explicit TrackBuilder(const Scene& scene);
+
+  /// The regions of the frame at scan position `position` (cache index
+  /// `frame`), ids set; sets each region's track. Tracks that ended (no
+  /// region of this frame went on with them, or merged here) are appended to
+  /// `ended`, in id order.
+  void add_frame(std::size_t position, std::size_t frame, std::vector<RegionRecord>& regions,
+                 std::vector<TrackRecord>& ended);
+  /// Ends every open track (appended in id order).
+  void finish(std::vector<TrackRecord>& ended);
+  std::size_t tracks_started() const { return next_id_; }
+
+ private:
+  using FaceKey = std::uint64_t;  // pair and kind above, global face below
+  FaceKey key(const RegionRecord& r, std::size_t object, std::size_t local_face) const;
+
+  const Scene& scene_;
+  std::size_t next_id_ = 0;
+  std::size_t last_position_ = kNone;
+  std::map<std::size_t, TrackRecord> open_;                 // by id: tracks with a region in the last frame
+  std::vector<std::pair<FaceKey, std::size_t>> last_faces_;  // sorted: the last frame's faces and their tracks
+};
+
+}  // namespace snag::report

@@ -1,0 +1,42 @@
+// Streaming writer of scan reports (JSON Lines, schema version 2; records.hpp
+// and man/snag-report.5). Each record is one line, written as it is given:
+// the writer keeps one line of text, never the report.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include "report/json_text.hpp"
+#include "report/records.hpp"
+
+namespace snag::report {
+
+class ReportWriter {
+ public:
+  /// Writes to `out`, which must outlive the writer. Names in element
+  /// references come from the header given to write_header().
+  explicit ReportWriter(std::ostream& out);
+
+  void write_header(const Header& header);
+  /// Takes the object names of `header` without writing it: to write a
+  /// trailer alone (the summary as JSON).
+  void use_names_of(const Header& header);
+  void write_frame(const FrameRecord& frame);
+  void write_event(const EventRecord& event);
+  void write_region(const RegionRecord& region);
+  void write_track(const TrackRecord& track);
+  void write_trailer(const Trailer& trailer);
+  /// Flushes what is buffered; throws std::runtime_error when the stream failed.
+  void flush();
+
+ private:
+  void end_line();
+  void object_name(std::size_t o);
+  void track_fields(const TrackRecord& track);
+
+  std::ostream& out_;
+  std::vector<std::string> names_;
+  JsonText line_;
+};
+
+}  // namespace snag::report
