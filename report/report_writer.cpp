@@ -40,6 +40,7 @@ void ReportWriter::flush() {
 void ReportWriter::object_name(std::size_t o) { line_.string(o < names_.size() ? names_[o] : std::string("?")); }
 
 void ReportWriter::use_names_of(const Header& h) {
+  region_faces_ = h.settings.events != "none";
   names_.clear();
   for (const ObjectInfo& o : h.objects) names_.push_back(o.name);
 }
@@ -202,13 +203,15 @@ void ReportWriter::write_region(const RegionRecord& r) {
     }
     j.raw("]}");
   };
-  j.key("faces").raw("[");
-  faces(r.object_a, r.faces_a);
-  if (r.object_b != r.object_a) {
-    j.raw(",");
-    faces(r.object_b, r.faces_b);
+  if (region_faces_) {
+    j.key("faces").raw("[");
+    faces(r.object_a, r.faces_a);
+    if (r.object_b != r.object_a) {
+      j.raw(",");
+      faces(r.object_b, r.faces_b);
+    }
+    j.raw("]");
   }
-  j.raw("]");
   j.key("bounds").raw("[").vec3(r.bounds.lo).raw(",").vec3(r.bounds.hi).raw("]");
   j.key("centroid").vec3(r.centroid);
   if (r.kind == EventKind::kCollision) j.key("toi").number(r.toi);

@@ -36,6 +36,7 @@ class ReportWriter {
 
   std::ostream& out_;
   std::vector<std::string> names_;
+  bool region_faces_ = true;  // settings.events "none": regions without their face lists
   JsonText line_;
 };
 

@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
                  "Write the report (JSON Lines, man snag-report(5)) to FILE ('-' = standard output)");
   app.add_option("--events", options.events,
                  "What the report lists besides regions and tracks: all (every event, up to --max-events),\n"
-                 "regions (no events) or none (no events; regions and tracks only, as with regions)")
+                 "regions (no events), or none (no events, and regions without their face lists)")
       ->check(CLI::IsMember({"all", "regions", "none"}));
   app.add_option("--max-events", options.max_events,
                  "With --events all: list at most N events, counting those left out (0 = no cap)");

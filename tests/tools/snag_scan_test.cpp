@@ -11,6 +11,7 @@
 #include <tuple>
 #include <vector>
 
+#include "tests/tools/report_json.hpp"
 #include "tests/tools/run_process.hpp"
 #include "tests/tools/sample_paths.hpp"
 
@@ -38,7 +39,7 @@ const ScanRun& scan(const std::vector<std::string>& arguments) {
   ScanRun run;
   run.process = snag_scan(full);
   EXPECT_TRUE(run.process.exit_code == 0 || run.process.exit_code == 1) << run.process.err;
-  if (run.process.exit_code == 0 || run.process.exit_code == 1) run.report = json::parse(read_file(dir.path("report.json")));
+  if (run.process.exit_code == 0 || run.process.exit_code == 1) run.report = load_report(dir.path("report.json"));
   return runs.emplace(arguments, std::move(run)).first->second;
 }
 
@@ -103,9 +104,12 @@ std::size_t count_kind(const json& events, const std::string& kind) {
   return n;
 }
 
+/// The events of one kind, without their region ids (which number the
+/// regions of both kinds together).
 json events_of_kind(const json& events, const std::string& kind) {
   json selected = json::array();
-  for (const json& e : events) {
+  for (json e : events) {
+    e.erase("region");
     if (e.at("kind") == kind) selected.push_back(e);
   }
   return selected;
@@ -113,10 +117,15 @@ json events_of_kind(const json& events, const std::string& kind) {
 
 TEST(SnagScan, ReportHasTheDocumentedTopLevelKeys) {
   const json& report = window_scan().report;
-  for (const char* key : {"version", "objects", "frames", "settings", "summary", "stages", "timing", "events"}) {
-    EXPECT_TRUE(report.contains(key)) << key;
+  for (const char* key : {"format", "version", "tool", "source", "objects", "frame_count", "settings", "rules"}) {
+    EXPECT_TRUE(report["header"].contains(key)) << key;
   }
-  EXPECT_EQ(report["version"], 1);
+  for (const char* key : {"frames", "summary", "pairs", "allow", "largest_tracks", "verdict", "stages", "timing"}) {
+    EXPECT_TRUE(report["trailer"].contains(key)) << key;
+  }
+  EXPECT_EQ(report["header"]["format"], "snag-report");
+  EXPECT_EQ(report["version"], 2);
+  EXPECT_EQ(report["header"]["frame_count"], 3u);
   EXPECT_EQ(report["frames"].size(), 3u);
   EXPECT_EQ(report["objects"].size(), 2u);
   EXPECT_EQ(report["settings"]["mode"], "all");
@@ -148,13 +157,13 @@ void expect_summary_counts_match_events(const json& report) {
   EXPECT_EQ(summary["ee"], ee);
   EXPECT_EQ(summary["uncertain"], 0u);  // certified: nothing left undecided
   EXPECT_EQ(uncertain, 0u);
-  // per_frame adds up to the totals, frame by frame.
+  // The frame records add up to the totals, frame by frame.
   std::map<std::size_t, std::size_t> collisions_per_frame, intersections_per_frame;
   for (const json& e : events) {
     (e["kind"] == "collision" ? collisions_per_frame : intersections_per_frame)[e["frame"].get<std::size_t>()]++;
   }
-  for (const json& f : summary["per_frame"]) {
-    const std::size_t frame = f["frame"];
+  for (const json& f : report["frames"]) {
+    const std::size_t frame = f["index"];
     EXPECT_EQ(f["collisions"], collisions_per_frame[frame]) << "frame " << frame;
     EXPECT_EQ(f["intersections"], intersections_per_frame[frame]) << "frame " << frame;
   }
@@ -250,10 +259,12 @@ TEST(SnagScan, TwoRunsGiveIdenticalEventsAndSummary) {
   const ProcessResult again = snag_scan(
       with(sample_pc2_inputs(), with({"--threads", "2", "-q", "-r", dir.path("again.json")}, kWindow)));
   ASSERT_EQ(again.exit_code, 1) << again.err;
-  const json second = json::parse(read_file(dir.path("again.json")));
+  const json second = load_report(dir.path("again.json"));
   EXPECT_TRUE(first["events"] == second["events"]);
   EXPECT_TRUE(first["summary"] == second["summary"]);
-  EXPECT_TRUE(first["stages"] == second["stages"]);
+  EXPECT_TRUE(first["regions"] == second["regions"]);
+  EXPECT_TRUE(first["tracks"] == second["tracks"]);
+  EXPECT_TRUE(first["trailer"]["stages"] == second["trailer"]["stages"]);
 }
 
 TEST(SnagScan, OneThreadAndTwoThreadsGiveIdenticalEvents) {
@@ -261,6 +272,8 @@ TEST(SnagScan, OneThreadAndTwoThreadsGiveIdenticalEvents) {
   const json& one = scan(with(sample_pc2_inputs(), with({"--threads", "1"}, kWindow))).report;
   EXPECT_EQ(one["settings"]["threads"], 1);
   EXPECT_TRUE(one["events"] == two["events"]);
+  EXPECT_TRUE(one["regions"] == two["regions"]);
+  EXPECT_TRUE(one["tracks"] == two["tracks"]);
   EXPECT_TRUE(one["summary"] == two["summary"]);
 }
 
@@ -277,7 +290,7 @@ TEST(SnagScan, CcdModeReportsOnlyTheCollisionsOfTheSameFrames) {
   const ScanRun& ccd = scan(with(sample_pc2_inputs(), with({"--threads", "2", "--mode", "ccd"}, kWindow)));
   EXPECT_EQ(ccd.report["settings"]["mode"], "ccd");
   EXPECT_EQ(count_kind(ccd.report["events"], "intersection"), 0u);
-  EXPECT_TRUE(ccd.report["events"] == events_of_kind(all["events"], "collision"));
+  EXPECT_TRUE(events_of_kind(ccd.report["events"], "collision") == events_of_kind(all["events"], "collision"));
   EXPECT_EQ(ccd.report["summary"]["intersections"], 0);
 }
 
@@ -286,7 +299,8 @@ TEST(SnagScan, DcdModeReportsOnlyTheIntersectionsOfTheSameFrames) {
   const ScanRun& dcd = scan(with(sample_pc2_inputs(), with({"--threads", "2", "--mode", "dcd"}, kWindow)));
   EXPECT_EQ(dcd.report["settings"]["mode"], "dcd");
   EXPECT_EQ(count_kind(dcd.report["events"], "collision"), 0u);
-  EXPECT_TRUE(dcd.report["events"] == events_of_kind(all["events"], "intersection"));
+  EXPECT_TRUE(events_of_kind(dcd.report["events"], "intersection") ==
+              events_of_kind(all["events"], "intersection"));
   EXPECT_EQ(dcd.report["summary"]["collisions"], 0);
 }
 
@@ -340,7 +354,7 @@ TEST(SnagScan, ReportDashWritesTheReportToStandardOutput) {
   const std::vector<std::string> options{"--frames", "20:22", "-q", "--fail-on", "0"};
   const ProcessResult to_stdout = snag_scan(with(with(sample_pc2_inputs(), options), {"--report", "-"}));
   ASSERT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
-  const json from_stdout = json::parse(to_stdout.out);
+  const json from_stdout = parse_report_text(to_stdout.out);
   const json& from_file = scan(with(sample_pc2_inputs(), {"--frames", "20:22", "--fail-on", "0"})).report;
   EXPECT_TRUE(from_stdout["events"] == from_file["events"]);
   EXPECT_TRUE(from_stdout["summary"] == from_file["summary"]);
@@ -362,6 +376,120 @@ TEST(SnagScan, FastPrecisionIsNotCertifiedAndKeepsEveryCertifiedEvent) {
   for (const json& e : certified["events"]) {
     EXPECT_TRUE(fast_keys.count(event_key(e, objects))) << "missing in fast mode: " << e.dump();
   }
+}
+
+// Regions and tracks on the whole sample: every checked event names a region
+// of its frame, kind and objects; the region's counts are those of its
+// events; tracks hold their regions' frames; the trailer adds them up.
+TEST(SnagScan, RegionsHoldTheirEventsAndTracksTheirRegions) {
+  const json& report = full_scan().report;
+  const json& regions = report["regions"];
+  ASSERT_GT(regions.size(), 10u);
+  std::map<std::size_t, std::size_t> events_named;
+  std::map<std::size_t, const json*> region_by_id;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    EXPECT_EQ(regions[i]["id"], i);
+    region_by_id[i] = &regions[i];
+  }
+  for (const json& e : report["events"]) {
+    ASSERT_FALSE(e["region"].is_null()) << e.dump();
+    const json& region = *region_by_id.at(e["region"].get<std::size_t>());
+    ++events_named[e["region"].get<std::size_t>()];
+    EXPECT_EQ(region["frame"], e["frame"]);
+    EXPECT_EQ(region["kind"], e["kind"]);
+    std::set<std::string> objects{e["a"]["object"], e["b"]["object"]};
+    EXPECT_EQ(objects, (std::set<std::string>{region["objects"][0], region["objects"][1]}));
+    if (e["kind"] == "intersection") {
+      for (const json& ref : {e["a"], e["b"]}) {
+        bool found = false;
+        for (const json& side : region["faces"]) {
+          if (side["object"] != ref["object"]) continue;
+          for (const json& id : side["ids"]) found = found || id == ref["face"];
+        }
+        EXPECT_TRUE(found) << e.dump();
+      }
+    }
+  }
+  std::size_t face_total = 0;
+  std::map<std::size_t, const json*> track_by_id;
+  std::size_t open_tracks = 0;
+  for (const json& t : report["tracks"]) {
+    track_by_id[t["id"].get<std::size_t>()] = &t;
+    EXPECT_LE(t["first_frame"], t["last_frame"]);
+    open_tracks += t["merged_into"].is_null();
+  }
+  for (const json& region : regions) {
+    EXPECT_EQ(region["events"], events_named[region["id"].get<std::size_t>()]);
+    std::size_t faces = 0;
+    for (const json& side : region["faces"]) faces += side["ids"].size();
+    EXPECT_EQ(region["face_count"], faces);
+    face_total += faces;
+    const json& track = *track_by_id.at(region["track"].get<std::size_t>());
+    EXPECT_LE(track["first_frame"], region["frame"]);
+    EXPECT_GE(track["last_frame"], region["frame"]);
+    EXPECT_EQ(track["kind"], region["kind"]);
+  }
+  EXPECT_GT(face_total, 0u);
+  EXPECT_EQ(report["summary"]["regions"], regions.size());
+  EXPECT_EQ(report["summary"]["tracks"], open_tracks);
+  std::size_t frame_regions = 0;
+  for (const json& f : report["frames"]) frame_regions += f["regions"].get<std::size_t>();
+  EXPECT_EQ(frame_regions, regions.size());
+}
+
+TEST(SnagScan, PrintsASummaryWhenNoReportGoesToStandardOutput) {
+  const ProcessResult run = snag_scan(with(sample_pc2_inputs(), with({"--threads", "2"}, kWindow)));
+  ASSERT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.out.find("cloth / body"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("largest tracks:"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("verdict: FAIL: events"), std::string::npos) << run.out;
+  EXPECT_EQ(run.err, "");  // no progress: standard error is not a terminal
+}
+
+TEST(SnagScan, JsonSummaryIsTheTrailerRecord) {
+  const ProcessResult run = snag_scan(with(sample_pc2_inputs(), with({"--threads", "2", "--json"}, kWindow)));
+  ASSERT_EQ(run.exit_code, 1) << run.err;
+  ASSERT_EQ(lines_of(run.out).size(), 1u) << run.out;
+  const json summary = json::parse(run.out);
+  EXPECT_EQ(summary["record"], "trailer");
+  EXPECT_TRUE(summary["summary"] == window_scan().report["summary"]);
+  EXPECT_EQ(summary["verdict"]["pass"], false);
+}
+
+TEST(SnagScan, EventsRegionsAndNoneListNoEventsButTheSameRegions) {
+  const json& all = window_scan().report;
+  const json& regions_only = scan(with(sample_pc2_inputs(), with({"--threads", "2", "--events", "regions"}, kWindow))).report;
+  const json& none = scan(with(sample_pc2_inputs(), with({"--threads", "2", "--events", "none"}, kWindow))).report;
+  EXPECT_TRUE(regions_only["events"].empty());
+  EXPECT_TRUE(none["events"].empty());
+  EXPECT_TRUE(regions_only["regions"] == all["regions"]);
+  EXPECT_TRUE(regions_only["tracks"] == all["tracks"]);
+  ASSERT_EQ(none["regions"].size(), all["regions"].size());
+  for (std::size_t i = 0; i < all["regions"].size(); ++i) {
+    EXPECT_FALSE(none["regions"][i].contains("faces"));
+    EXPECT_EQ(none["regions"][i]["face_count"], all["regions"][i]["face_count"]);
+  }
+  EXPECT_EQ(regions_only["summary"]["listed"], 0);
+  EXPECT_EQ(regions_only["summary"]["left_out"], all["summary"]["events"]);
+  EXPECT_EQ(regions_only["summary"]["events"], all["summary"]["events"]);
+}
+
+TEST(SnagScan, MaxEventsListsTheFirstEventsAndCountsTheRest) {
+  const json& all = window_scan().report;
+  const std::size_t total = all["events"].size();
+  ASSERT_GT(total, 20u);
+  const json& capped = scan(with(sample_pc2_inputs(), with({"--threads", "2", "--max-events", "20"}, kWindow))).report;
+  ASSERT_EQ(capped["events"].size(), 20u);
+  for (std::size_t i = 0; i < 20; ++i) EXPECT_TRUE(capped["events"][i] == all["events"][i]) << i;
+  EXPECT_EQ(capped["summary"]["listed"], 20);
+  EXPECT_EQ(capped["summary"]["left_out"], total - 20);
+  EXPECT_TRUE(capped["regions"] == all["regions"]);
+}
+
+TEST(SnagScan, JsonAndReportToStandardOutputConflict) {
+  const ProcessResult run = snag_scan(with(sample_pc2_inputs(), {"--json", "-r", "-", "--frames", "0:1"}));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(lines_of(run.err).size(), 1u) << run.err;
 }
 
 TEST(SnagScanRejects, CudaBackendWithAClearMessage) {
