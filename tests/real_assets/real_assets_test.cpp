@@ -30,6 +30,7 @@
 #include <tuple>
 #include <vector>
 
+#include "tests/tools/report_json.hpp"
 #include "tests/tools/run_process.hpp"
 
 namespace snag::test {
@@ -82,7 +83,7 @@ const ToolRun& scan(const std::string& input, const std::vector<std::string>& op
   EXPECT_FALSE(run.process.timed_out) << "snag-scan " << input << " ran past " << kTimeLimit << " s";
   EXPECT_TRUE(finished(run.process)) << "snag-scan " << input << " exited " << run.process.exit_code << ": "
                                      << run.process.err;
-  if (finished(run.process)) run.output = json::parse(read_file(dir.path("report.json")));
+  if (finished(run.process)) run.output = load_report(dir.path("report.json"));
   return runs.emplace(arguments, std::move(run)).first->second;
 }
 
