@@ -4,6 +4,8 @@
 // lie in range for their objects.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -376,6 +378,65 @@ TEST(SnagScan, FastPrecisionIsNotCertifiedAndKeepsEveryCertifiedEvent) {
   for (const json& e : certified["events"]) {
     EXPECT_TRUE(fast_keys.count(event_key(e, objects))) << "missing in fast mode: " << e.dump();
   }
+}
+
+/// OBJ text of axis-aligned unit cubes (12 triangles each) at the given
+/// corners, as one object `name`, with vertex numbering continuing after `base` vertices.
+std::string obj_cubes(const std::string& name, const std::vector<std::array<double, 3>>& corners, int base) {
+  std::string text = "o " + name + "\n";
+  static const int faces[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                   {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  for (std::size_t c = 0; c < corners.size(); ++c) {
+    const auto [x, y, z] = corners[c];
+    for (int k = 0; k < 8; ++k) {
+      const int bx = (k == 1 || k == 2 || k == 5 || k == 6), by = (k == 2 || k == 3 || k == 6 || k == 7), bz = k >= 4;
+      text += "v " + std::to_string(x + bx) + " " + std::to_string(y + by) + " " + std::to_string(z + bz) + "\n";
+    }
+  }
+  for (std::size_t c = 0; c < corners.size(); ++c) {
+    for (const auto& f : faces) {
+      text += "f";
+      for (int k : f) text += " " + std::to_string(base + 8 * static_cast<int>(c) + k + 1);
+      text += "\n";
+    }
+  }
+  return text;
+}
+
+// Hand-counted: object "a" holds two cubes far apart, object "b" two cubes
+// each pushed half into one of them, in frames 0-2; in frame 1 only, a third
+// pair overlaps elsewhere. Each frame has one region per overlapping pair of
+// cubes; the two lasting overlaps are two tracks of frames 0-2, the brief one
+// a track of frame 1 alone.
+TEST(SnagScan, SeparateOverlapsAreSeparateRegionsAndLastingOnesOneTrackEach) {
+  TemporaryDirectory dir;
+  for (int f = 0; f < 3; ++f) {
+    std::vector<std::array<double, 3>> a{{0, 0, 0}, {10, 0, 0}}, b{{0.5, 0.25, 0.3}, {10.5, 0.3, 0.2}};
+    if (f == 1) {
+      a.push_back({0, 10, 0});
+      b.push_back({0.4, 10.2, 0.5});
+    } else {  // the same vertex count in every frame: the third cubes apart
+      a.push_back({0, 10, 0});
+      b.push_back({0, 20, 0});
+    }
+    dir.write("frame_" + std::to_string(f) + ".obj", obj_cubes("a", a, 0) + obj_cubes("b", b, 24));
+  }
+  const ProcessResult run = snag_scan({dir.path("frame_%d.obj"), "--mode", "dcd", "-q", "-r", dir.path("r.jsonl")});
+  ASSERT_EQ(run.exit_code, 1) << run.err;
+  const json report = load_report(dir.path("r.jsonl"));
+  std::vector<std::size_t> regions_per_frame;
+  for (const json& f : report["frames"]) regions_per_frame.push_back(f["regions"]);
+  EXPECT_EQ(regions_per_frame, (std::vector<std::size_t>{2, 3, 2}));
+  std::vector<std::pair<std::size_t, std::size_t>> spans;
+  for (const json& t : report["tracks"]) {
+    EXPECT_TRUE(t["merged_into"].is_null());
+    EXPECT_EQ(t["objects"], json({"a", "b"}));
+    spans.emplace_back(t["first_frame"], t["last_frame"]);
+  }
+  std::sort(spans.begin(), spans.end());
+  EXPECT_EQ(spans, (std::vector<std::pair<std::size_t, std::size_t>>{{0, 2}, {0, 2}, {1, 1}}));
+  EXPECT_EQ(report["summary"]["tracks"], 3);
+  EXPECT_EQ(report["summary"]["regions"], 7);
 }
 
 // Regions and tracks on the whole sample: every checked event names a region
