@@ -102,7 +102,7 @@ RuleSet::RuleSet(const Scene& scene, ScanRules rules, double global_thickness)
 
   for (std::size_t r = 0; r < rules_.allow.size(); ++r) {
     const AllowRule& rule = rules_.allow[r];
-    const std::string context = "allow rule " + std::to_string(r + 1);
+    const std::string context = "allow rule " + std::to_string(r) + " (counting from 0)";
     if (rule.first_frame > rule.last_frame) {
       throw UsageError(context + ": first frame " + std::to_string(rule.first_frame) + " is after last frame " +
                        std::to_string(rule.last_frame));
