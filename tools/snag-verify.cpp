@@ -6,6 +6,7 @@
 #if SNAG_HAVE_CGAL
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -14,6 +15,7 @@
 #include "io/ccd_query_csv.hpp"
 #include "libcd/core/error.hpp"
 #include "libcd/pipeline/scan.hpp"
+#include "report/report_reader.hpp"
 #include "tools/common/cli.hpp"
 #include "tools/common/run_tool.hpp"
 #include "tools/common/verify_report.hpp"
@@ -55,25 +57,38 @@ int run_queries(const VerifyOptions& options) {
   return exact_agrees ? snag::tools::kExitClean : snag::tools::kExitFound;
 }
 
+// The scan's settings that verification must repeat, from the report's header.
+void apply_report_settings(const snag::report::ReportReader& reader, snag::tools::CacheArguments& cache,
+                           snag::validate::VerifySettings& settings) {
+  const snag::report::Header& header = reader.header();
+  const std::string& frames = header.settings.frames;
+  if (cache.frames.empty()) {
+    cache.frames = frames;
+  } else if (!frames.empty() && cache.frames != frames) {
+    throw snag::UsageError("--frames " + cache.frames + " differs from the report's selection " + frames +
+                           "; give the same selection, or none to use the report's");
+  }
+  if (cache.weld.empty()) cache.weld = header.settings.weld;
+  settings.collisions = header.settings.mode != "dcd";
+  settings.intersections = header.settings.mode != "ccd";
+  // Each object's thickness, a pair's the mean of its two objects'.
+  settings.thickness = 0;
+  for (const snag::report::ObjectInfo& object : header.objects) {
+    settings.object_thickness.push_back(object.thickness);
+    settings.thickness = std::max(settings.thickness, object.thickness);
+  }
+}
+
 int run_verification(snag::tools::CacheArguments cache, const VerifyOptions& options) {
   snag::validate::VerifySettings settings;
   settings.exhaustive = options.exhaustive;
   settings.toi_tolerance = options.toi_tolerance;
-  std::optional<snag::tools::ScanReport> report;
+  std::unique_ptr<snag::report::ReportReader> reader;
   if (!options.scan) {
     if (cache.inputs.size() < 2) throw snag::UsageError("give a report and its cache: snag-verify REPORT CACHE...");
-    report = snag::tools::read_scan_report(cache.inputs.front());
+    reader = std::make_unique<snag::report::ReportReader>(cache.inputs.front());
     cache.inputs.erase(cache.inputs.begin());
-    if (cache.frames.empty()) {
-      cache.frames = report->frames;
-    } else if (!report->frames.empty() && cache.frames != report->frames) {
-      throw snag::UsageError("--frames " + cache.frames + " differs from the report's selection " +
-                             report->frames + "; give the same selection, or none to use the report's");
-    }
-    if (cache.weld.empty()) cache.weld = report->weld;
-    settings.thickness = report->thickness;
-    settings.collisions = report->mode != "dcd";
-    settings.intersections = report->mode != "ccd";
+    apply_report_settings(*reader, cache, settings);
   } else {
     settings.thickness = options.thickness;
     settings.collisions = options.mode != "dcd";
@@ -82,8 +97,10 @@ int run_verification(snag::tools::CacheArguments cache, const VerifyOptions& opt
 
   auto source = snag::io::open_cache(snag::tools::to_cache_options(cache));
   std::vector<snag::Event> events;
-  if (report) {
-    events = snag::tools::report_events(*report, *source);
+  std::optional<snag::tools::ReportEvents> listed;
+  if (reader) {
+    listed = snag::tools::read_report_events(*reader, *source);
+    events = std::move(listed->events);
   } else {
     // A certified CPU scan, as snag-scan --precision certified runs it.
     auto backend = snag::make_cpu_backend();
@@ -101,12 +118,22 @@ int run_verification(snag::tools::CacheArguments cache, const VerifyOptions& opt
   }
 
   const snag::validate::VerifyResult result = snag::validate::verify_events(*source, events, settings);
-  if (options.json) {
-    std::cout << snag::tools::verification_json(*source, events, result, settings).dump(1) << "\n";
-  } else {
-    snag::tools::print_verification(stdout, *source, events, result, settings);
+  std::optional<snag::tools::UnlistedEvents> unlisted;
+  if (listed && options.exhaustive) {
+    unlisted = snag::tools::split_unlisted(reader->header(), *source, *listed, result);
   }
-  return snag::tools::all_confirmed(result) ? snag::tools::kExitClean : snag::tools::kExitFound;
+  snag::tools::Verification verification;
+  verification.events = &events;
+  verification.report = listed ? &*listed : nullptr;
+  verification.unlisted = unlisted ? &*unlisted : nullptr;
+  verification.result = &result;
+  verification.settings = &settings;
+  if (options.json) {
+    std::cout << snag::tools::verification_json(*source, verification).dump(1) << "\n";
+  } else {
+    snag::tools::print_verification(stdout, *source, verification);
+  }
+  return snag::tools::all_confirmed(verification) ? snag::tools::kExitClean : snag::tools::kExitFound;
 }
 
 }  // namespace

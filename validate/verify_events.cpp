@@ -55,12 +55,21 @@ bool shares_vertex(const Scene& scene, const Event& e) {
   return a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1];
 }
 
+// The contact thickness of a collision's pair of objects.
+double pair_thickness(const Scene& scene, const Event& e, const VerifySettings& settings) {
+  if (settings.object_thickness.empty()) return settings.thickness;
+  const bool vf = e.type == ContactType::kVertexFace;
+  const std::size_t a = vf ? scene.object_of_vertex(e.a) : scene.object_of_edge(e.a);
+  const std::size_t b = vf ? scene.object_of_triangle(e.b) : scene.object_of_edge(e.b);
+  return 0.5 * (settings.object_thickness[a] + settings.object_thickness[b]);
+}
+
 ExactCcdResult exact_ccd(const Scene& scene, const Event& e, const std::vector<Vec3>& x_t0,
                          const std::vector<Vec3>& x_t1, const VerifySettings& settings) {
   const std::array<Vec3, 8> points = ccd_points(scene, e, x_t0, x_t1);
-  return e.type == ContactType::kVertexFace
-             ? exact_vertex_face_ccd(points, settings.thickness, settings.toi_width)
-             : exact_edge_edge_ccd(points, settings.thickness, settings.toi_width);
+  const double thickness = pair_thickness(scene, e, settings);
+  return e.type == ContactType::kVertexFace ? exact_vertex_face_ccd(points, thickness, settings.toi_width)
+                                            : exact_edge_edge_ccd(points, thickness, settings.toi_width);
 }
 
 EventCheck check_collision(const Scene& scene, const Event& e, const std::vector<Vec3>& x_t0,
@@ -176,6 +185,10 @@ VerifyResult verify_events(const FrameSource& source, const std::vector<Event>& 
   std::stable_sort(to_check.begin(), to_check.end(),
                    [&](std::size_t i, std::size_t j) { return reported[i].frame < reported[j].frame; });
 
+  // The candidate sets are complete for the thickest pair, hence for every pair.
+  double search_thickness = settings.thickness;
+  for (double h : settings.object_thickness) search_thickness = std::max(search_thickness, h);
+
   FrameWindow window(source);
   const std::size_t frame_count = source.frame_count();
   std::size_t next = 0;
@@ -230,7 +243,7 @@ VerifyResult verify_events(const FrameSource& source, const std::vector<Event>& 
     if (settings.collisions && step_exists) {
       std::vector<VertexFaceCandidate> vf;
       std::vector<EdgeEdgeCandidate> ee;
-      complete_ccd_candidates(scene, x_f, *x_t1, settings.thickness, vf, ee);
+      complete_ccd_candidates(scene, x_f, *x_t1, search_thickness, vf, ee);
       for (const VertexFaceCandidate& c : vf) {
         if (reported_pair(EventKind::kCollision, ContactType::kVertexFace, c.vertex, c.face)) continue;
         Event e;
@@ -261,7 +274,7 @@ VerifyResult verify_events(const FrameSource& source, const std::vector<Event>& 
       // Pairs certainly apart (verify_exclusion.hpp) cannot touch; every
       // other pair is decided by the exact CCD.
       if (certainly_apart(ccd_points(scene, e, x_f, *x_t1), e.type == ContactType::kEdgeEdge,
-                          settings.thickness)) {
+                          pair_thickness(scene, e, settings))) {
         ++excluded[e.type == ContactType::kEdgeEdge];
         return;
       }

@@ -17,6 +17,11 @@ namespace snag::validate {
 
 struct VerifySettings {
   double thickness = 0;       ///< contact distance of the scan, scene units (>= 0)
+  /// Contact thickness per object, #objects, scene units (>= 0); empty:
+  /// `thickness` for every pair. A pair's thickness is the mean of its two
+  /// objects' (as snag-scan's rules define it), for collisions reported and
+  /// searched alike.
+  std::vector<double> object_thickness;
   bool collisions = true;     ///< the scan looked for collisions (CCD): check them exhaustively
   bool intersections = true;  ///< the scan looked for intersections (DCD): check them exhaustively
   bool exhaustive = false;    ///< also search the complete candidate sets for missed events
