@@ -5,7 +5,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <utility>
 
@@ -35,6 +37,16 @@ MappedFile::MappedFile(const std::string& path) : path_(path) {
     data_ = static_cast<const char*>(map);
   }
   ::close(fd);
+}
+
+void MappedFile::release(std::size_t offset, std::size_t length) const {
+  static const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  if (data_ == nullptr || offset >= size_) return;
+  length = std::min(length, size_ - offset);
+  const std::uintptr_t start = reinterpret_cast<std::uintptr_t>(data_) + offset;
+  const std::uintptr_t first = (start + page - 1) / page * page, end = (start + length) / page * page;
+  // Advice only: a failure leaves the pages resident, which is harmless.
+  if (first < end) (void)::madvise(reinterpret_cast<void*>(first), end - first, MADV_DONTNEED);
 }
 
 MappedFile::~MappedFile() {

@@ -34,13 +34,15 @@ double PointCacheSource::frame_time(std::size_t i) const { return point_cache_fr
 
 void PointCacheSource::read_frame(std::size_t i, std::vector<Vec3>& positions) const {
   positions.resize(scene_.vertex_count());
+  const std::size_t frame_bytes = 12 * layout_.point_count;
   if (direct_) {
     read_point_cache_frame(file_.bytes(), layout_, i, positions.data(), file_.path());
-    return;
+  } else {
+    std::vector<Vec3> points(layout_.point_count);
+    read_point_cache_frame(file_.bytes(), layout_, i, points.data(), file_.path());
+    gather_object_positions(objects_, points.data(), positions.data());
   }
-  std::vector<Vec3> points(layout_.point_count);
-  read_point_cache_frame(file_.bytes(), layout_, i, points.data(), file_.path());
-  gather_object_positions(objects_, points.data(), positions.data());
+  file_.release(layout_.first_frame_offset + i * frame_bytes, frame_bytes);
 }
 
 std::string PointCacheSource::description() const {
