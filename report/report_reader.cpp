@@ -595,6 +595,18 @@ struct ReportReader::State {
     r.track = count(o, "track");
     r.events = count(o, "events");
     const std::size_t face_count = count(o, "face_count");
+    // Reports that list no events (settings.events "none") list no faces either.
+    if (o.at_key("faces").error() == simdjson::SUCCESS) read_region_faces(o, r, face_count);
+    r.bounds = bounds(o, "bounds");
+    r.centroid = vec3(o, "centroid");
+    if (r.kind == EventKind::kCollision) r.toi = number(o, "toi");
+    if (!frame_regions.insert(r.id).second) {
+      fail("region record: region " + std::to_string(r.id) + " is listed twice in frame " + std::to_string(r.frame));
+    }
+    region = std::move(r);
+  }
+
+  void read_region_faces(const object& o, RegionRecord& r, std::size_t face_count) {
     array faces = list(o, "faces");
     const std::size_t sides = r.object_a == r.object_b ? 1 : 2;
     if (faces.size() != sides) {
@@ -621,13 +633,6 @@ struct ReportReader::State {
       fail("region record: \"face_count\" is " + std::to_string(face_count) + " but it lists " +
            std::to_string(r.faces_a.size() + r.faces_b.size()) + " faces");
     }
-    r.bounds = bounds(o, "bounds");
-    r.centroid = vec3(o, "centroid");
-    if (r.kind == EventKind::kCollision) r.toi = number(o, "toi");
-    if (!frame_regions.insert(r.id).second) {
-      fail("region record: region " + std::to_string(r.id) + " is listed twice in frame " + std::to_string(r.frame));
-    }
-    region = std::move(r);
   }
 
   TrackRecord read_track_fields(const object& o) {

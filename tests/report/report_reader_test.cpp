@@ -405,6 +405,16 @@ TEST_F(ReportReaderTest, ReadsAReportWithNoFrames) {
   EXPECT_EQ(read_all(dir_.write("empty_scan.jsonl", header + "\n" + trailer + "\n")), 1u);
 }
 
+TEST_F(ReportReaderTest, ReadsARegionWithoutFaceLists) {
+  // Reports that list no events (--events none) list no faces either.
+  ReportReader reader(dir_.write("no_faces.jsonl", edited(7, R"("faces":[{"object":"cloth","ids":[3]},{"object":"body","ids":[7]}],)", "")));
+  Record record;
+  while ((record = reader.next()) != Record::kRegion) ASSERT_NE(record, Record::kEnd);
+  EXPECT_EQ(reader.region().events, 1u);
+  EXPECT_TRUE(reader.region().faces_a.empty());
+  EXPECT_TRUE(reader.region().faces_b.empty());
+}
+
 TEST_F(ReportReaderTest, RejectsAnEmptyFile) { expect_error("", 1, "empty"); }
 
 TEST_F(ReportReaderTest, RejectsGarbage) {
