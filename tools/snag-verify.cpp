@@ -96,11 +96,10 @@ int run_verification(snag::tools::CacheArguments cache, const VerifyOptions& opt
   }
 
   auto source = snag::io::open_cache(snag::tools::to_cache_options(cache));
-  std::vector<snag::Event> events;
+  std::vector<snag::Event> scanned;
   std::optional<snag::tools::ReportEvents> listed;
   if (reader) {
     listed = snag::tools::read_report_events(*reader, *source);
-    events = std::move(listed->events);
   } else {
     // A certified CPU scan, as snag-scan --precision certified runs it.
     auto backend = snag::make_cpu_backend();
@@ -114,8 +113,9 @@ int run_verification(snag::tools::CacheArguments cache, const VerifyOptions& opt
     snag::ScanSettings scan;
     scan.collisions = settings.collisions;
     scan.intersections = settings.intersections;
-    events = snag::scan_cache(*source, *backend, scan).events;
+    scanned = snag::scan_cache(*source, *backend, scan).events;
   }
+  const std::vector<snag::Event>& events = listed ? listed->events : scanned;
 
   const snag::validate::VerifyResult result = snag::validate::verify_events(*source, events, settings);
   std::optional<snag::tools::UnlistedEvents> unlisted;

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/tools/report_json.hpp"
 #include "tests/tools/run_process.hpp"
 #include "tests/tools/sample_paths.hpp"
 
@@ -70,7 +71,7 @@ class SplitCubes : public ::testing::Test {
     const ProcessResult run = run_process(SNAG_SCAN_EXE, arguments, {kTimeout});
     EXPECT_FALSE(run.timed_out);
     EXPECT_TRUE(run.exit_code == 0 || run.exit_code == 1) << run.err;
-    return json::parse(read_file(report));
+    return load_report(report);
   }
 
   static std::size_t self_events(const json& report) {
@@ -187,7 +188,7 @@ TEST_F(SplitCubes, AReportToAPipeIsWrittenIntoThePipe) {
   ASSERT_EQ(stat(fifo.c_str(), &after), 0);
   EXPECT_TRUE(S_ISFIFO(after.st_mode));
   ASSERT_FALSE(text.empty()) << "nothing came through the pipe";
-  EXPECT_EQ(json::parse(text)["summary"]["intersections"].get<std::size_t>(),
+  EXPECT_EQ(parse_report_text(text)["summary"]["intersections"].get<std::size_t>(),
             scan({"--weld", "exact"}, dir_->path("plain.json"))["summary"]["intersections"].get<std::size_t>());
 }
 
@@ -199,7 +200,7 @@ TEST_F(SplitCubes, AReportThroughASymbolicLinkReplacesItsTarget) {
   struct stat after {};
   ASSERT_EQ(lstat(link.c_str(), &after), 0);
   EXPECT_TRUE(S_ISLNK(after.st_mode));
-  EXPECT_EQ(json::parse(read_file(target)), report);
+  EXPECT_EQ(load_report(target), report);
   std::size_t files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir_->path("reports"))) files += entry.exists();
   EXPECT_EQ(files, 1u);
