@@ -1,6 +1,7 @@
 // snag-verify run as a user runs it: on a certified scan of frames 26 to 29
-// of the sample cache, on copies of that report edited to drop or add one
-// event or to name other objects, and on one scene of the CCD query set.
+// of the sample cache, on copies of that report (JSON Lines) edited to drop or
+// add one event, to name other objects, to contradict its regions or totals,
+// to leave events out, and on one scene of the CCD query set.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -41,7 +42,8 @@ class SnagVerify : public ::testing::Test {
     std::filesystem::create_directories(dir_);
     const ToolRun scan = run(SNAG_SCAN_EXE, kCache + " --frames 26:29 -q --fail-on 0 -r " + path("report.json"));
     ASSERT_EQ(scan.exit_code, 0) << scan.err;
-    report_ = json::parse(read_text(path("report.json")));
+    std::istringstream lines(read_text(path("report.json")));
+    for (std::string line; std::getline(lines, line);) records_.push_back(json::parse(line));
   }
   static void TearDownTestSuite() { std::filesystem::remove_all(dir_); }
 
@@ -64,20 +66,30 @@ class SnagVerify : public ::testing::Test {
 
   static ToolRun verify(const std::string& args) { return run(SNAG_VERIFY_EXE, args); }
 
-  static std::string write_report(const std::string& name, const json& report) {
-    std::ofstream(path(name)) << report.dump(1);
+  static std::string write_report(const std::string& name, const std::vector<json>& records) {
+    std::ofstream out(path(name));
+    for (const json& record : records) out << record.dump() << "\n";
     return path(name);
   }
 
+  // Indices into records_ of the records of one kind.
+  static std::vector<std::size_t> find(const std::string& kind) {
+    std::vector<std::size_t> found;
+    for (std::size_t i = 0; i < records_.size(); ++i)
+      if (records_[i].at("record") == kind) found.push_back(i);
+    return found;
+  }
+  static std::size_t event_count() { return find("event").size(); }
+
   static std::filesystem::path dir_;
-  static json report_;
+  static std::vector<json> records_;
 };
 
 std::filesystem::path SnagVerify::dir_;
-json SnagVerify::report_;
+std::vector<json> SnagVerify::records_;
 
 TEST_F(SnagVerify, ConfirmsEveryEventOfACertifiedScan) {
-  const std::size_t events = report_.at("events").size();
+  const std::size_t events = event_count();
   ASSERT_GT(events, 0u) << "frames 26 to 29 of the sample should have events";
   const ToolRun r = verify(path("report.json") + " " + kCache + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
@@ -87,17 +99,19 @@ TEST_F(SnagVerify, ConfirmsEveryEventOfACertifiedScan) {
   EXPECT_EQ(result.at("false"), 0);
   EXPECT_EQ(result.at("toi_mismatch"), 0);
   EXPECT_TRUE(result.at("missed").is_null());
+  EXPECT_TRUE(result.at("complete").get<bool>());
+  EXPECT_EQ(result.at("regions").at("checked"), find("region").size());
+  EXPECT_TRUE(result.at("regions").at("mismatched").empty()) << result.at("regions").dump(1);
 }
 
 TEST_F(SnagVerify, ExhaustiveFindsTheOneDroppedEvent) {
-  json edited = report_;
-  json& events = edited.at("events");
-  std::size_t drop = events.size();
-  for (std::size_t i = 0; i < events.size(); ++i)
-    if (events[i].at("kind") == "collision") drop = i;
-  ASSERT_LT(drop, events.size()) << "the scan should have a collision";
-  const json dropped = events[drop];
-  events.erase(events.begin() + static_cast<std::ptrdiff_t>(drop));
+  std::vector<json> edited = records_;
+  std::size_t drop = edited.size();
+  for (std::size_t i : find("event"))
+    if (edited[i].at("kind") == "collision") drop = i;
+  ASSERT_LT(drop, edited.size()) << "the scan should have a collision";
+  const json dropped = edited[drop];
+  edited.erase(edited.begin() + static_cast<std::ptrdiff_t>(drop));
   const ToolRun r = verify(write_report("dropped.json", edited) + " " + kCache + " --exhaustive --json");
   ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
   const json result = json::parse(r.out);
@@ -113,6 +127,12 @@ TEST_F(SnagVerify, ExhaustiveFindsTheOneDroppedEvent) {
   EXPECT_EQ(missed.at("type"), dropped.at("type"));
   EXPECT_EQ(missed.at("a"), dropped.at("a"));
   EXPECT_EQ(missed.at("b"), dropped.at("b"));
+  // Its region, its frame record and the trailer still count it.
+  const json& mismatched = result.at("regions").at("mismatched");
+  ASSERT_FALSE(mismatched.empty());
+  bool region_named = false;
+  for (const json& m : mismatched) region_named |= m.at("region") == dropped.at("region");
+  EXPECT_TRUE(region_named) << mismatched.dump(1);
 }
 
 TEST_F(SnagVerify, FlagsTheOneAddedFalseEvent) {
@@ -145,8 +165,9 @@ TEST_F(SnagVerify, FlagsTheOneAddedFalseEvent) {
   while (!far_apart(cloth_vertex, body_face)) ++cloth_vertex;
   ASSERT_LT(cloth_vertex, scene.vertex_offset(1));
 
-  json edited = report_;
-  const json added{{"kind", "collision"},
+  std::vector<json> edited = records_;
+  const json added{{"record", "event"},
+                   {"kind", "collision"},
                    {"frame", 26},  // reports name frames by the cache's own index
                    {"type", "vf"},
                    {"toi", 26.5},
@@ -154,14 +175,16 @@ TEST_F(SnagVerify, FlagsTheOneAddedFalseEvent) {
                    {"a", {{"object", scene.objects()[0].name}, {"vertex", cloth_vertex}}},
                    {"b", {{"object", scene.objects()[1].name}, {"face", 0}}},
                    {"certainty", "proven"},
-                   {"position", {0, 0, 0}}};
-  edited.at("events").push_back(added);
+                   {"position", {0, 0, 0}},
+                   {"region", nullptr}};
+  // After frame 26's record, among its events.
+  edited.insert(edited.begin() + static_cast<std::ptrdiff_t>(find("frame").at(0)) + 1, added);
   const std::string report = write_report("added.json", edited);
   const ToolRun r = verify(report + " " + kCache + " --json");
   ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
   const json result = json::parse(r.out);
   EXPECT_EQ(result.at("false"), 1);
-  EXPECT_EQ(result.at("confirmed"), report_.at("events").size());
+  EXPECT_EQ(result.at("confirmed"), event_count());
   ASSERT_EQ(result.at("false_events").size(), 1u);
   EXPECT_EQ(result.at("false_events")[0].at("a"), added.at("a"));
   EXPECT_EQ(result.at("false_events")[0].at("b"), added.at("b"));
@@ -174,18 +197,16 @@ TEST_F(SnagVerify, FlagsTheOneAddedFalseEvent) {
 }
 
 TEST_F(SnagVerify, RejectsAReportWhoseObjectNamesDiffer) {
-  json edited = report_;
-  edited.at("objects")[0].at("name") = "not_the_cloth";
+  std::vector<json> edited = records_;
+  edited.at(0).at("objects")[0].at("name") = "not_the_cloth";
   const ToolRun r = verify(write_report("renamed.json", edited) + " " + kCache);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("not_the_cloth"), std::string::npos) << r.err;
 }
 
 TEST_F(SnagVerify, RejectsAnEventWhoseIdIsOutOfRange) {
-  json edited = report_;
-  json& events = edited.at("events");
-  ASSERT_FALSE(events.empty());
-  json& a = events[0].at("a");
+  std::vector<json> edited = records_;
+  json& a = edited.at(find("event").at(0)).at("a");
   if (a.contains("vertex")) {
     a.at("vertex") = 1000000;
   } else if (a.contains("face")) {
@@ -196,6 +217,126 @@ TEST_F(SnagVerify, RejectsAnEventWhoseIdIsOutOfRange) {
   const ToolRun r = verify(write_report("out_of_range.json", edited) + " " + kCache);
   EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("out of range"), std::string::npos) << r.err;
+}
+
+TEST_F(SnagVerify, FailsOnARegionThatDisagreesWithItsEvents) {
+  // An intersection region without its first face: some listed event touches it.
+  std::vector<json> edited = records_;
+  std::size_t at = edited.size();
+  for (std::size_t i : find("region"))
+    if (edited[i].at("kind") == "intersection" && at == edited.size()) at = i;
+  ASSERT_LT(at, edited.size()) << "the scan should have an intersection region";
+  json& region = edited[at];
+  json& ids = region.at("faces")[0].at("ids");
+  const std::size_t face = ids[0];
+  ids.erase(ids.begin());
+  region.at("face_count") = region.at("face_count").get<std::size_t>() - 1;
+  const ToolRun r = verify(write_report("region_faces.json", edited) + " " + kCache + " --json");
+  ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
+  const json result = json::parse(r.out);
+  EXPECT_EQ(result.at("false"), 0) << "the events are right; their region is not";
+  const json& mismatched = result.at("regions").at("mismatched");
+  ASSERT_FALSE(mismatched.empty());
+  EXPECT_EQ(mismatched[0].at("region"), region.at("id"));
+  EXPECT_LT(mismatched[0].at("line").get<std::size_t>(), at + 1) << "the line of an event naming the region";
+  EXPECT_NE(mismatched[0].at("reason").get<std::string>().find("face " + std::to_string(face)), std::string::npos)
+      << mismatched.dump(1);
+
+  const ToolRun text = verify(path("region_faces.json") + " " + kCache);
+  EXPECT_EQ(text.exit_code, 1);
+  EXPECT_NE(text.out.find(", region " + region.at("id").dump() + ": the event on line "), std::string::npos)
+      << text.out;
+}
+
+TEST_F(SnagVerify, FailsOnARegionEventCountOrATotalThatDisagrees) {
+  std::vector<json> edited = records_;
+  json& region = edited.at(find("region").at(0));
+  region.at("events") = region.at("events").get<std::size_t>() + 1;
+  ToolRun r = verify(write_report("region_count.json", edited) + " " + kCache + " --json");
+  ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
+  json result = json::parse(r.out);
+  ASSERT_EQ(result.at("regions").at("mismatched").size(), 1u) << result.at("regions").dump(1);
+  EXPECT_NE(result.at("regions").at("mismatched")[0].at("reason").get<std::string>().find("events"), std::string::npos);
+
+  edited = records_;
+  json& summary = edited.back().at("summary");
+  summary.at("collisions") = summary.at("collisions").get<std::size_t>() + 1;
+  r = verify(write_report("total.json", edited) + " " + kCache + " --json");
+  ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
+  result = json::parse(r.out);
+  ASSERT_FALSE(result.at("regions").at("mismatched").empty());
+  const json& m = result.at("regions").at("mismatched")[0];
+  EXPECT_TRUE(m.at("region").is_null());
+  EXPECT_EQ(m.at("line"), edited.size());
+  EXPECT_NE(m.at("reason").get<std::string>().find("collisions"), std::string::npos) << m.dump();
+}
+
+TEST_F(SnagVerify, CountsEventsLeftOutOfTheListAsUnlistedNotMissed) {
+  // As if the list had been capped: one collision not listed, the trailer says so.
+  std::vector<json> edited = records_;
+  std::size_t drop = edited.size();
+  for (std::size_t i : find("event"))
+    if (edited[i].at("kind") == "collision") drop = i;
+  ASSERT_LT(drop, edited.size());
+  edited.erase(edited.begin() + static_cast<std::ptrdiff_t>(drop));
+  json& summary = edited.back().at("summary");
+  summary.at("listed") = summary.at("listed").get<std::size_t>() - 1;
+  summary.at("left_out") = 1;
+  ToolRun r = verify(write_report("capped.json", edited) + " " + kCache + " --exhaustive --json");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  json result = json::parse(r.out);
+  EXPECT_FALSE(result.at("complete").get<bool>());
+  EXPECT_EQ(result.at("missed"), 0);
+  EXPECT_EQ(result.at("unlisted"), 1);
+  EXPECT_TRUE(result.at("regions").at("mismatched").empty()) << result.at("regions").dump(1);
+
+  const ToolRun text = verify(path("capped.json") + " " + kCache);
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.out.find("cannot be confirmed"), std::string::npos) << text.out;
+
+  // When the frame record counts fewer than exist, the excess is missed for certain.
+  for (json& frame : edited) {
+    if (frame.at("record") != "frame" || frame.at("index") != records_[drop].at("frame")) continue;
+    const char* type = records_[drop].at("type") == "vf" ? "vf" : "ee";
+    frame.at(type) = frame.at(type).get<std::size_t>() - 1;
+    frame.at("collisions") = frame.at("collisions").get<std::size_t>() - 1;
+  }
+  summary.at("events") = summary.at("events").get<std::size_t>() - 1;
+  summary.at("collisions") = summary.at("collisions").get<std::size_t>() - 1;
+  const char* type = records_[drop].at("type") == "vf" ? "vf" : "ee";
+  summary.at(type) = summary.at(type).get<std::size_t>() - 1;
+  r = verify(write_report("undercounted.json", edited) + " " + kCache + " --exhaustive --json");
+  ASSERT_EQ(r.exit_code, 1) << r.out << r.err;
+  result = json::parse(r.out);
+  EXPECT_EQ(result.at("missed"), 1);
+}
+
+TEST_F(SnagVerify, RejectsAVersion1OrIncompleteReport) {
+  const std::string v1 = path("v1.json");
+  std::ofstream(v1) << "{\n \"version\": 1,\n \"events\": []\n}\n";
+  ToolRun r = verify(v1 + " " + kCache);
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("version 1 report; scan the cache again"), std::string::npos) << r.err;
+
+  std::vector<json> edited = records_;
+  edited.pop_back();
+  r = verify(write_report("no_trailer.json", edited) + " " + kCache);
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("incomplete report (no trailer)"), std::string::npos) << r.err;
+}
+
+TEST_F(SnagVerify, ChecksEachPairAtTheMeanOfItsObjectsThickness) {
+  // The cloth at 2e-3, the body at 0: cloth-body pairs at 1e-3.
+  const std::string report = path("thick.json");
+  const ToolRun scan = run(SNAG_SCAN_EXE, kCache + " --frames 26:27 -q --fail-on 0 --object-thickness cloth=2e-3 -r " +
+                                              report);
+  ASSERT_EQ(scan.exit_code, 0) << scan.err;
+  const ToolRun r = verify(report + " " + kCache + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const json result = json::parse(r.out);
+  EXPECT_GT(result.at("events").get<std::size_t>(), 0u);
+  EXPECT_EQ(result.at("confirmed"), result.at("events"));
+  EXPECT_EQ(result.at("object_thickness"), json({2e-3, 0.0}));
 }
 
 TEST_F(SnagVerify, ScanModeConfirmsItsOwnScan) {
