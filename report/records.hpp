@@ -108,7 +108,9 @@ struct RegionRecord {
   std::size_t object_a = 0, object_b = 0;  ///< a <= b; equal for self-contact
   std::size_t frame = 0;                   ///< cache frame index
   std::size_t track = 0;
-  std::vector<std::size_t> faces_a, faces_b;  ///< sorted local face ids; faces_b empty when a == b
+  /// Sorted local face ids; faces_b empty when a == b. Reports written with
+  /// settings.events "none" omit the lists (face_count stays): both empty.
+  std::vector<std::size_t> faces_a, faces_b;
   std::size_t events = 0;
   Bounds bounds;
   Vec3 centroid;
