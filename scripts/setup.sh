@@ -11,7 +11,7 @@ packages=(
   libopenvdb-dev libboost-iostreams-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
-  mandoc man-db time bc
+  mandoc man-db python3
 )
 
 sudo=""
