@@ -553,6 +553,93 @@ TEST(SnagScan, JsonAndReportToStandardOutputConflict) {
   EXPECT_EQ(lines_of(run.err).size(), 1u) << run.err;
 }
 
+/// The window's checked events of one kind and pair, counted from its report.
+std::size_t count_pair(const json& report, const std::string& kind, const std::string& a, const std::string& b) {
+  std::size_t n = 0;
+  for (const json& e : report["events"]) {
+    const std::set<std::string> objects{e["a"]["object"], e["b"]["object"]};
+    n += e["kind"] == kind && objects == std::set<std::string>{a, b} && !e.contains("allowed");
+  }
+  return n;
+}
+
+// The sample's manifest allows the cloth's self-collisions and fails on
+// collisions and intersections: the allowed events are counted, listed with
+// their rule and in no region, and the verdict names the two thresholds.
+TEST(SnagScan, SampleManifestAllowsSelfCollisionsAndFailsOnTheRest) {
+  const json& plain = window_scan().report;
+  const ScanRun& run = scan({"--manifest", kSampleDir + "/scene.yaml", "--threads", "2", "--frames", "24:26"});
+  ASSERT_EQ(run.process.exit_code, 1) << run.process.err;
+  const json& report = run.report;
+  const std::size_t self_collisions = count_pair(plain, "collision", "cloth", "cloth");
+  ASSERT_GT(self_collisions, 0u);
+  EXPECT_EQ(report["summary"]["allowed"], self_collisions);
+  EXPECT_EQ(report["trailer"]["allow"], json({self_collisions}));
+  EXPECT_EQ(report["summary"]["collisions"], count_pair(plain, "collision", "cloth", "body"));
+  EXPECT_EQ(report["summary"]["intersections"], plain["summary"]["intersections"]);
+  std::size_t listed_allowed = 0;
+  for (const json& e : report["events"]) {
+    if (!e.contains("allowed")) continue;
+    ++listed_allowed;
+    EXPECT_EQ(e["allowed"], 0);
+    EXPECT_TRUE(e["region"].is_null());
+    EXPECT_EQ(e["a"]["object"], "cloth");
+    EXPECT_EQ(e["b"]["object"], "cloth");
+  }
+  EXPECT_EQ(listed_allowed, self_collisions);
+  for (const json& r : report["regions"]) EXPECT_FALSE(r["kind"] == "collision" && r["objects"] == json({"cloth", "cloth"}));
+  const json& failed = report["trailer"]["verdict"]["failed"];
+  ASSERT_EQ(failed.size(), 2u) << failed.dump();
+  EXPECT_EQ(failed[0]["what"], "collisions");
+  EXPECT_EQ(failed[1]["what"], "intersections");
+  EXPECT_EQ(report["header"]["settings"]["manifest"], kSampleDir + "/scene.yaml");
+
+  // The same manifest with both thresholds off on the command line passes.
+  const ScanRun& relaxed = scan({"--manifest", kSampleDir + "/scene.yaml", "--threads", "2", "--frames", "24:26",
+                                 "--fail-on-collisions", "0", "--fail-on-intersections", "0"});
+  EXPECT_EQ(relaxed.process.exit_code, 0) << relaxed.process.err;
+  EXPECT_EQ(relaxed.report["trailer"]["verdict"]["pass"], true);
+}
+
+TEST(SnagScan, RulesOnTheCommandLineDropUncheckedPairsAndJudgeRegionsAndTracks) {
+  const json& plain = window_scan().report;
+  // The cloth's self-contact not checked: only cloth / body events remain, counted as not checked.
+  const ScanRun& run = scan(with(sample_pc2_inputs(), with({"--threads", "2", "--no-self", "cloth", "--fail-on", "0",
+                                                            "--fail-on-tracks", "1"}, kWindow)));
+  EXPECT_EQ(run.process.exit_code, 1) << run.process.err;
+  const std::size_t body_events =
+      count_pair(plain, "collision", "cloth", "body") + count_pair(plain, "intersection", "cloth", "body");
+  ASSERT_GT(body_events, 0u);
+  EXPECT_EQ(run.report["summary"]["events"], body_events);
+  EXPECT_EQ(run.report["summary"]["not_checked"], plain["summary"]["events"].get<std::size_t>() - body_events);
+  for (const json& e : run.report["events"]) EXPECT_NE(e["b"]["object"], e["a"]["object"]) << e.dump();
+  const json& failed = run.report["trailer"]["verdict"]["failed"];
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0]["what"], "tracks");
+  EXPECT_EQ(failed[0]["count"], run.report["summary"]["tracks"]);
+  // An allow rule for the body's frames 24-25 collisions leaves frame 26's.
+  const ScanRun& allowed = scan(with(sample_pc2_inputs(), with({"--threads", "2", "--no-self", "cloth", "--allow",
+                                                                "cloth,body:collision:24-25", "--fail-on", "0"}, kWindow)));
+  EXPECT_EQ(allowed.process.exit_code, 0) << allowed.process.err;
+  for (const json& e : allowed.report["events"]) {
+    const bool early_collision = e["kind"] == "collision" && e["frame"].get<std::size_t>() <= 25;
+    EXPECT_EQ(e.contains("allowed"), early_collision) << e.dump();
+  }
+}
+
+TEST(SnagScanRejects, ManifestProblemsNameTheFileAndLine) {
+  TemporaryDirectory dir;
+  const std::string manifest = dir.write("scene.yaml", "version: 1\nobjects:\n  - name: cloth\n    colour: red\n");
+  const ProcessResult run = snag_scan({"--manifest", manifest, "-q"});
+  EXPECT_EQ(run.exit_code, 2);
+  const auto lines = lines_of(run.err);
+  ASSERT_EQ(lines.size(), 1u) << run.err;
+  EXPECT_NE(lines[0].find("scene.yaml:4"), std::string::npos) << lines[0];
+  const ProcessResult unknown = snag_scan(with(sample_pc2_inputs(), {"--no-self", "cape", "-q", "--frames", "0:1"}));
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("cape"), std::string::npos) << unknown.err;
+}
+
 TEST(SnagScanRejects, CudaBackendWithAClearMessage) {
   const ProcessResult result = snag_scan(with(sample_pc2_inputs(), {"--backend", "cuda", "-q", "-r", "-"}));
   EXPECT_EQ(result.exit_code, 2);
