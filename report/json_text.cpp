@@ -7,8 +7,9 @@ namespace snag::report {
 
 JsonText& JsonText::key(std::string_view name, bool first) {
   if (!first) text_.push_back(',');
-  string(name);
-  text_.push_back(':');
+  text_.push_back('"');
+  text_.append(name);  // keys are the schema's own names: nothing to escape
+  text_.append("\":");
   return *this;
 }
 

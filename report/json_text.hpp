@@ -20,7 +20,8 @@ class JsonText {
     text_.append(s);
     return *this;
   }
-  /// ,"key": (the comma unless `first`).
+  /// ,"key": (the comma unless `first`). `name` is written as it is: a
+  /// schema key, never text from a file.
   JsonText& key(std::string_view name, bool first = false);
   JsonText& string(std::string_view s);
   JsonText& number(double x);  ///< null when not finite

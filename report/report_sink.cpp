@@ -48,11 +48,6 @@ PairSummary& ReportSink::pair(EventKind kind, std::size_t a, std::size_t b) {
   return it->second;
 }
 
-bool ReportSink::listing() const {
-  if (header_.settings.events != "all") return false;
-  return header_.settings.max_events == 0 || trailer_.listed < header_.settings.max_events;
-}
-
 EventRecord ReportSink::event_record(const Event& e) const {
   auto vertex = [&](Index v) {
     const std::size_t o = scene_.object_of_vertex(v);
@@ -170,17 +165,22 @@ void ReportSink::frame(ScannedFrame& frame) {
   trailer_.regions += frame_regions_.size();
 
   if (writer_) writer_->write_frame(record);
-  for (std::size_t i = 0; i < kept_.size(); ++i) {
-    if (!listing()) {
-      trailer_.left_out += kept_.size() - i;
-      break;
-    }
-    EventRecord out = event_record(kept_[i]);
-    out.region = region_of_[i] == kNone ? kNone : frame_regions_[region_of_[i]].id;
-    out.allowed = allowed_by_[i];
-    if (writer_) writer_->write_event(out);
-    ++trailer_.listed;
+  std::size_t listed = kept_.size();
+  if (header_.settings.events != "all") {
+    listed = 0;
+  } else if (header_.settings.max_events > 0) {
+    listed = std::min(listed, header_.settings.max_events - std::min(header_.settings.max_events, trailer_.listed));
   }
+  if (writer_) {
+    writer_->write_events(listed, [&](std::size_t i) {
+      EventRecord out = event_record(kept_[i]);
+      out.region = region_of_[i] == kNone ? kNone : frame_regions_[region_of_[i]].id;
+      out.allowed = allowed_by_[i];
+      return out;
+    });
+  }
+  trailer_.listed += listed;
+  trailer_.left_out += kept_.size() - listed;
   if (writer_) {
     for (const RegionRecord& region : frame_regions_) writer_->write_region(region);
   }

@@ -39,7 +39,6 @@ class ReportSink : public ScanSink {
   PairSummary& pair(EventKind kind, std::size_t a, std::size_t b);
   void end_tracks(std::vector<TrackRecord>& ended);
   EventRecord event_record(const Event& e) const;
-  bool listing() const;
 
   const Scene& scene_;
   Header header_;

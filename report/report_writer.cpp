@@ -1,6 +1,9 @@
 #include "report/report_writer.hpp"
 
+#include <algorithm>
 #include <stdexcept>
+
+#include <tbb/parallel_for.h>
 
 namespace snag::report {
 
@@ -141,14 +144,18 @@ void ReportWriter::write_frame(const FrameRecord& f) {
   end_line();
 }
 
-void ReportWriter::write_event(const EventRecord& e) {
-  JsonText& j = line_;
+namespace {
+
+// One event line; `names` are the header's object names. A free function so
+// that blocks of events can be formatted on several threads at once.
+void format_event(JsonText& j, const EventRecord& e, const std::vector<std::string>& names) {
+  auto name = [&](std::size_t o) { j.string(o < names.size() ? names[o] : std::string("?")); };
   j.raw("{").key("record", true).string("event");
   j.key("kind").string(kind_name(e.kind));
   j.key("frame").number(e.frame);
   auto ref = [&](const ElementRef& r, const char* what) {
     j.raw("{").key("object", true);
-    object_name(r.object);
+    name(r.object);
     j.key(what);
     if (what[0] == 'e') {
       j.raw("[").number(r.id).raw(",").number(r.id2).raw("]");
@@ -176,7 +183,29 @@ void ReportWriter::write_event(const EventRecord& e) {
   j.key("position").vec3(e.position);
   j.key("region").optional(e.region, kNone);
   if (e.allowed != kNone) j.key("allowed").number(e.allowed);
-  end_line();
+  j.raw("}\n");
+}
+
+}  // namespace
+
+void ReportWriter::write_event(const EventRecord& e) {
+  format_event(line_, e, names_);
+  if (line_.text().size() >= kFlushBytes) flush();
+}
+
+void ReportWriter::write_events(std::size_t count, const std::function<EventRecord(std::size_t)>& event) {
+  constexpr std::size_t kBlock = 2048;
+  if (count < 2 * kBlock) {
+    for (std::size_t i = 0; i < count; ++i) write_event(event(i));
+    return;
+  }
+  std::vector<JsonText> blocks((count + kBlock - 1) / kBlock);
+  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
+    for (std::size_t i = b * kBlock; i < std::min(count, (b + 1) * kBlock); ++i) format_event(blocks[b], event(i), names_);
+  });
+  flush();
+  for (JsonText& block : blocks) out_.write(block.text().data(), static_cast<std::streamsize>(block.text().size()));
+  if (!out_) throw std::runtime_error("writing the report failed");
 }
 
 void ReportWriter::write_region(const RegionRecord& r) {

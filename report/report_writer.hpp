@@ -3,6 +3,7 @@
 // the writer keeps one line of text, never the report.
 #pragma once
 
+#include <functional>
 #include <ostream>
 #include <string>
 
@@ -23,6 +24,10 @@ class ReportWriter {
   void use_names_of(const Header& header);
   void write_frame(const FrameRecord& frame);
   void write_event(const EventRecord& event);
+  /// Writes events 0 .. count - 1 as event(i) gives them, in that order;
+  /// large batches are formatted on several threads (event() must be safe
+  /// to call from several threads at once).
+  void write_events(std::size_t count, const std::function<EventRecord(std::size_t)>& event);
   void write_region(const RegionRecord& region);
   void write_track(const TrackRecord& track);
   void write_trailer(const Trailer& trailer);

@@ -81,69 +81,94 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
   ScanTotals totals;
   const std::size_t frame_count = source.frame_count();
   const bool detect = settings.collisions || settings.intersections;
-  // Frame i lives in frames[i % 3]: while frames f and f + 1 are in use,
-  // frame f + 2 is read into the third.
-  std::vector<Vec3> frames[3];
-  std::future<double> reading;  // after `frames`: joined before they go
+  // Frame i lives in frames[i % 4]. While the back end works on frames
+  // f + 1 and f + 2, frame f + 3 is read into a third buffer and the sink
+  // still reads frames f and f + 1 (the fourth).
+  std::vector<Vec3> frames[4];
+  // A frame's events, filled by the back end and then handed to the sink;
+  // the sink of frame f runs on its own thread while frame f + 1 is scanned.
+  std::vector<Event> events[2];
+  std::future<double> reading;  // after the buffers: joined before they go
+  std::future<double> sinking;
   auto read_ahead = [&](std::size_t i) {
     reading = std::async(std::launch::async, [&source, &frames, i] {
       const auto read_start = Clock::now();
-      source.read_frame(i, frames[i % 3]);
+      source.read_frame(i, frames[i % 4]);
       return seconds_since(read_start);
     });
   };
-  std::vector<Event> found, frame_events;
-  if (frame_count > 0) {
-    const auto read_start = Clock::now();
-    source.read_frame(0, frames[0]);
-    totals.read_seconds += seconds_since(read_start);
-    if (frame_count > 1 && detect) read_ahead(1);
-  }
-  for (std::size_t f = 0; f < frame_count; ++f) {
-    const std::vector<Vec3>& current = frames[f % 3];
-    const std::vector<Vec3>& next = frames[(f + 1) % 3];
-    const bool has_next = f + 1 < frame_count && detect;
-    if (has_next) {
-      totals.read_seconds += reading.get();
-      if (settings.collisions) backend.prepare(next);
-      if (f + 2 < frame_count) read_ahead(f + 2);
+  auto wait_for_sink = [&] {
+    if (!sinking.valid()) return;
+    const auto wait_start = Clock::now();
+    totals.sink_seconds += sinking.get();  // rethrows what the sink threw
+    totals.sink_wait_seconds += seconds_since(wait_start);
+  };
+  std::vector<Event> found;
+  ScannedFrame pending;
+  try {
+    if (frame_count > 0) {
+      const auto read_start = Clock::now();
+      source.read_frame(0, frames[0]);
+      totals.read_seconds += seconds_since(read_start);
+      if (frame_count > 1 && detect) read_ahead(1);
     }
-    ScannedFrame done;
-    done.position = f;
-    done.time = source.frame_time(f);
-    done.summary.frame = source.frame_index(f);
-    frame_events.clear();
-    if (settings.intersections) {
-      found.clear();
-      backend.intersections(current, found);
-      totals.stats.add(backend.stats());
-      for (Event& event : found) event.frame = done.summary.frame;
-      done.summary.intersections = found.size();
-      frame_events.insert(frame_events.end(), found.begin(), found.end());
-    }
-    if (settings.collisions && has_next) {
-      found.clear();
-      backend.collisions(current, next, found);
-      totals.stats.add(backend.stats());
-      for (Event& event : found) {
-        event.frame = done.summary.frame;
-        ++done.summary.collisions;
-        done.summary.vertex_face += event.type == ContactType::kVertexFace;
-        done.summary.edge_edge += event.type == ContactType::kEdgeEdge;
-        done.summary.uncertain += event.certainty == Certainty::kUncertain;
+    for (std::size_t f = 0; f < frame_count; ++f) {
+      const std::vector<Vec3>& current = frames[f % 4];
+      const std::vector<Vec3>& next = frames[(f + 1) % 4];
+      const bool has_next = f + 1 < frame_count && detect;
+      if (has_next) {
+        totals.read_seconds += reading.get();
+        if (settings.collisions) backend.prepare(next);
+        if (f + 2 < frame_count) read_ahead(f + 2);
       }
-      frame_events.insert(frame_events.end(), found.begin(), found.end());
+      ScannedFrame done;
+      done.position = f;
+      done.time = source.frame_time(f);
+      done.summary.frame = source.frame_index(f);
+      std::vector<Event>& frame_events = events[f % 2];
+      frame_events.clear();
+      if (settings.intersections) {
+        found.clear();
+        backend.intersections(current, found);
+        totals.stats.add(backend.stats());
+        for (Event& event : found) event.frame = done.summary.frame;
+        done.summary.intersections = found.size();
+        frame_events.insert(frame_events.end(), found.begin(), found.end());
+      }
+      if (settings.collisions && has_next) {
+        found.clear();
+        backend.collisions(current, next, found);
+        totals.stats.add(backend.stats());
+        for (Event& event : found) {
+          event.frame = done.summary.frame;
+          ++done.summary.collisions;
+          done.summary.vertex_face += event.type == ContactType::kVertexFace;
+          done.summary.edge_edge += event.type == ContactType::kEdgeEdge;
+          done.summary.uncertain += event.certainty == Certainty::kUncertain;
+        }
+        frame_events.insert(frame_events.end(), found.begin(), found.end());
+      }
+      // Both lists are in event_order; collisions come first in it.
+      std::stable_sort(frame_events.begin(), frame_events.end(), event_order);
+      done.events = &frame_events;
+      done.x = &current;
+      done.x_next = has_next ? &next : nullptr;
+      wait_for_sink();  // frame f - 1's: one frame in the sink at a time, in order
+      pending = done;
+      sinking = std::async(std::launch::async, [&sink, &pending] {
+        const auto sink_start = Clock::now();
+        sink.frame(pending);
+        return seconds_since(sink_start);
+      });
+      ++totals.frames;
+      if (progress) progress(f + 1, frame_count);
     }
-    // Both lists are in event_order; collisions come first in it.
-    std::stable_sort(frame_events.begin(), frame_events.end(), event_order);
-    done.events = &frame_events;
-    done.x = &current;
-    done.x_next = has_next ? &next : nullptr;
-    const auto sink_start = Clock::now();
-    sink.frame(done);
-    totals.sink_seconds += seconds_since(sink_start);
-    ++totals.frames;
-    if (progress) progress(f + 1, frame_count);
+    wait_for_sink();
+  } catch (...) {
+    // Nothing may still use the buffers when they go.
+    if (sinking.valid()) sinking.wait();
+    if (reading.valid()) reading.wait();
+    throw;
   }
   totals.total_seconds = seconds_since(start);
   return totals;

@@ -1,9 +1,9 @@
-// The scan: streams a cache's frames through a back end and gathers events
-// and stage counts. Frame f's intersections and the collisions of the step
-// f -> f + 1 are found while frames f and f + 1 are held; frame f + 2 is read
-// meanwhile on another thread, and frame f + 1 is handed to the back end's
-// prepare() before the work on frame f starts, so reading and uploading
-// overlap detection.
+// The scan: streams a cache's frames through a back end and hands each
+// frame's events to a sink. Frame f's intersections and the collisions of the
+// step f -> f + 1 are found while frames f and f + 1 are held; frame f + 2 is
+// read meanwhile on another thread, frame f + 1 is handed to the back end's
+// prepare() before the work on frame f starts, and the sink takes frame f - 1
+// on a third thread, so reading, uploading and reporting overlap detection.
 #pragma once
 
 #include <cstddef>
@@ -43,9 +43,10 @@ struct ScannedFrame {
   const std::vector<Vec3>* x_next = nullptr;  ///< the next frame's, when there is a step; else null
 };
 
-/// Receives each frame as soon as it is done, in frame order, on the thread
-/// that called scan_cache. Nothing is kept between calls: what the sink
-/// keeps is what the scan holds.
+/// Receives each frame as soon as it is done, in frame order, one call at a
+/// time, on a thread of its own: the sink of frame f runs while frame f + 1
+/// is scanned. The frame's buffers stay valid until the call returns.
+/// Nothing is kept between calls: what the sink keeps is what the scan holds.
 class ScanSink {
  public:
   virtual ~ScanSink() = default;
@@ -57,7 +58,8 @@ struct ScanTotals {
   std::size_t frames = 0;
   PipelineStats stats;        ///< summed over all frames and steps
   double read_seconds = 0;    ///< time spent reading frames (overlapping detection)
-  double sink_seconds = 0;    ///< time spent in the sink (writing the report)
+  double sink_seconds = 0;       ///< time spent in the sink (writing the report), on its thread
+  double sink_wait_seconds = 0;  ///< of it, the time the scan waited for the sink
   double total_seconds = 0;
 };
 

@@ -77,6 +77,7 @@ std::string timing_json(const ScanTotals& totals) {
   const json timing = {{"total", totals.total_seconds},
                        {"read", totals.read_seconds},
                        {"report", totals.sink_seconds},
+                       {"report_wait", totals.sink_wait_seconds},
                        {"ccd_broad_phase", broad_timing(totals.stats.ccd_broad)},
                        {"static_broad_phase", broad_timing(totals.stats.static_broad)},
                        {"ccd_narrow_phase", n.seconds_ccd},

@@ -1,10 +1,14 @@
 // scan_cache reads frame f + 2 on another thread and hands frame f + 1 to the
 // back end's prepare() while frame f is worked on: the back end must still see
 // every frame, in order, unchanged from prepare() to its use, and a read error
-// must come out of the scan as the source threw it.
+// must come out of the scan as the source threw it; the sink of frame f runs
+// while frame f + 1 is scanned, and must see its frames intact.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "libcd/core/error.hpp"
@@ -105,6 +109,47 @@ TEST(ScanCache, AReadErrorAheadComesOutOfTheScan) {
     // Nothing past the frame before the bad one was worked on.
     for (const std::string& call : backend.calls) EXPECT_LT(call.back() - '0', int(failing)) << call;
   }
+}
+
+/// A slow sink: checks that each frame it gets holds that frame's positions
+/// (and the next frame's, for a step) while the scan goes on with the next
+/// frame, in order; throws at frame `failing`.
+class CheckingSink final : public ScanSink {
+ public:
+  explicit CheckingSink(std::size_t failing) : failing_(failing) {}
+  void frame(ScannedFrame& frame) override {
+    positions.push_back(frame.position);
+    const double f = static_cast<double>(frame.position);
+    for (int pass = 0; pass < 3; ++pass) {  // the scan reads ahead meanwhile: the buffers must hold
+      EXPECT_EQ((*frame.x)[0].x, f);
+      if (frame.x_next) EXPECT_EQ((*frame.x_next)[0].x, f + 1);
+      ASSERT_EQ(frame.events->size(), 1u);
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    if (frame.position == failing_) throw std::runtime_error("sink failed");
+  }
+  std::vector<std::size_t> positions;
+
+ private:
+  std::size_t failing_;
+};
+
+TEST(ScanCache, TheSinkGetsEachFrameInOrderWithItsPositionsIntact) {
+  const CountingSource source(9, 99);
+  RecordingBackend backend;
+  CheckingSink sink(99);
+  const ScanTotals totals = scan_cache(source, backend, ScanSettings{}, sink);
+  EXPECT_EQ(totals.frames, 9u);
+  EXPECT_EQ(sink.positions, (std::vector<std::size_t>{0, 1, 2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_GT(totals.sink_seconds, 0.0);
+}
+
+TEST(ScanCache, ASinkErrorComesOutOfTheScan) {
+  const CountingSource source(9, 99);
+  RecordingBackend backend;
+  CheckingSink sink(4);
+  EXPECT_THROW((void)scan_cache(source, backend, ScanSettings{}, sink), std::runtime_error);
+  EXPECT_EQ(sink.positions.back(), 4u);
 }
 
 }  // namespace
