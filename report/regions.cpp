@@ -12,6 +12,18 @@ struct Group {
   std::vector<std::size_t> events;
 };
 
+void grow(Bounds& bounds, const Vec3& p) {
+  bounds.lo = {std::min(bounds.lo.x, p.x), std::min(bounds.lo.y, p.y), std::min(bounds.lo.z, p.z)};
+  bounds.hi = {std::max(bounds.hi.x, p.x), std::max(bounds.hi.y, p.y), std::max(bounds.hi.z, p.z)};
+}
+
+Bounds empty_bounds() {
+  const double inf = std::numeric_limits<double>::infinity();
+  return {{inf, inf, inf}, {-inf, -inf, -inf}};
+}
+
+}  // namespace
+
 std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Event& e) {
   std::size_t a = 0, b = 0;
   if (e.kind == EventKind::kIntersection) {
@@ -26,18 +38,6 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
   }
   return {std::min(a, b), std::max(a, b)};
 }
-
-void grow(Bounds& bounds, const Vec3& p) {
-  bounds.lo = {std::min(bounds.lo.x, p.x), std::min(bounds.lo.y, p.y), std::min(bounds.lo.z, p.z)};
-  bounds.hi = {std::max(bounds.hi.x, p.x), std::max(bounds.hi.y, p.y), std::max(bounds.hi.z, p.z)};
-}
-
-Bounds empty_bounds() {
-  const double inf = std::numeric_limits<double>::infinity();
-  return {{inf, inf, inf}, {-inf, -inf, -inf}};
-}
-
-}  // namespace
 
 RegionBuilder::RegionBuilder(const Scene& scene)
     : scene_(scene),

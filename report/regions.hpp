@@ -25,6 +25,9 @@
 
 namespace snag::report {
 
+/// The objects of an event's two elements, smaller index first.
+std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Event& event);
+
 /// Builds the regions of one frame. Holds scene-sized scratch arrays so that
 /// each frame costs time in the number of its events, not of the scene.
 class RegionBuilder {

@@ -8,21 +8,6 @@ namespace {
 
 constexpr std::size_t kLargestTracks = 5;
 
-std::pair<std::size_t, std::size_t> objects_of(const Scene& scene, const Event& e) {
-  std::size_t a = 0, b = 0;
-  if (e.kind == EventKind::kIntersection) {
-    a = scene.object_of_triangle(e.a);
-    b = scene.object_of_triangle(e.b);
-  } else if (e.type == ContactType::kVertexFace) {
-    a = scene.object_of_vertex(e.a);
-    b = scene.object_of_triangle(e.b);
-  } else {
-    a = scene.object_of_edge(e.a);
-    b = scene.object_of_edge(e.b);
-  }
-  return {std::min(a, b), std::max(a, b)};
-}
-
 }  // namespace
 
 ReportSink::ReportSink(const Scene& scene, const Header& header, const RuleSet& rules, ReportWriter* writer,
@@ -111,7 +96,7 @@ void ReportSink::frame(ScannedFrame& frame) {
       ++trailer_.neighbourhood;
       continue;
     }
-    const auto [a, b] = objects_of(scene_, e);
+    const auto [a, b] = event_objects(scene_, e);
     PairSummary& summary = pair(e.kind, a, b);
     kept_.push_back(e);
     if (d.kind == Disposition::kAllowed) {

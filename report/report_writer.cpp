@@ -42,6 +42,14 @@ void ReportWriter::flush() {
 
 void ReportWriter::object_name(std::size_t o) { line_.string(o < names_.size() ? names_[o] : std::string("?")); }
 
+void ReportWriter::object_pair(std::size_t a, std::size_t b) {
+  line_.key("objects").raw("[");
+  object_name(a);
+  line_.raw(",");
+  object_name(b);
+  line_.raw("]");
+}
+
 void ReportWriter::use_names_of(const Header& h) {
   region_faces_ = h.settings.events != "none";
   names_.clear();
@@ -213,11 +221,7 @@ void ReportWriter::write_region(const RegionRecord& r) {
   j.raw("{").key("record", true).string("region");
   j.key("id").number(r.id);
   j.key("kind").string(kind_name(r.kind));
-  j.key("objects").raw("[");
-  object_name(r.object_a);
-  j.raw(",");
-  object_name(r.object_b);
-  j.raw("]");
+  object_pair(r.object_a, r.object_b);
   j.key("frame").number(r.frame);
   j.key("track").number(r.track);
   j.key("events").number(r.events);
@@ -251,11 +255,7 @@ void ReportWriter::track_fields(const TrackRecord& t) {
   JsonText& j = line_;
   j.key("id", true).number(t.id);
   j.key("kind").string(kind_name(t.kind));
-  j.key("objects").raw("[");
-  object_name(t.object_a);
-  j.raw(",");
-  object_name(t.object_b);
-  j.raw("]");
+  object_pair(t.object_a, t.object_b);
   j.key("first_frame").number(t.first_frame);
   j.key("last_frame").number(t.last_frame);
   j.key("frames").number(t.frames);
@@ -298,11 +298,7 @@ void ReportWriter::write_trailer(const Trailer& t) {
     const PairSummary& p = t.pairs[i];
     if (i) j.raw(",");
     j.raw("{").key("kind", true).string(kind_name(p.kind));
-    j.key("objects").raw("[");
-    object_name(p.object_a);
-    j.raw(",");
-    object_name(p.object_b);
-    j.raw("]");
+    object_pair(p.object_a, p.object_b);
     j.key("events").number(p.events);
     j.key("allowed").number(p.allowed);
     j.key("regions").number(p.regions);

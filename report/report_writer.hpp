@@ -37,6 +37,7 @@ class ReportWriter {
  private:
   void end_line();
   void object_name(std::size_t o);
+  void object_pair(std::size_t a, std::size_t b);  ///< ,"objects":[a,b]
   void track_fields(const TrackRecord& track);
 
   std::ostream& out_;

@@ -11,22 +11,12 @@
 
 #include "libcd/core/error.hpp"
 #include "report/rules.hpp"
+#include "tests/common/grid_object.hpp"
 
 namespace snag::report {
 namespace {
 
-/// A square grid of n x n vertices, two triangles per cell.
-Object grid(const std::string& name, Index n) {
-  std::vector<Triangle> triangles;
-  for (Index i = 0; i + 1 < n; ++i) {
-    for (Index j = 0; j + 1 < n; ++j) {
-      const Index v = i * n + j;
-      triangles.push_back({v, v + 1, v + n});
-      triangles.push_back({v + 1, v + n + 1, v + n});
-    }
-  }
-  return make_object(name, n * n, std::move(triangles));
-}
+Object grid(const std::string& name, Index n) { return test::grid_object(name, n); }
 
 Object triangle(const std::string& name) { return make_object(name, 3, {Triangle{0, 1, 2}}); }
 

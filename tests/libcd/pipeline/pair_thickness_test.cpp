@@ -10,22 +10,12 @@
 
 #include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/pair_thickness.hpp"
+#include "tests/common/grid_object.hpp"
 
 namespace snag {
 namespace {
 
-/// An n x n grid of triangles over the unit square.
-Object grid(const std::string& name, Index n) {
-  std::vector<Triangle> triangles;
-  for (Index i = 0; i + 1 < n; ++i) {
-    for (Index j = 0; j + 1 < n; ++j) {
-      const Index v = i * n + j;
-      triangles.push_back({v, v + 1, v + n});
-      triangles.push_back({v + 1, v + n + 1, v + n});
-    }
-  }
-  return make_object(name, n * n, std::move(triangles));
-}
+Object grid(const std::string& name, Index n) { return test::grid_object(name, n); }
 
 /// A two-object step: a flat cloth grid at rest (z = 0, a slight ripple), and
 /// a body grid above it that sinks and tilts, so that at the end it lies from
