@@ -43,8 +43,12 @@ void MappedFile::release(std::size_t offset, std::size_t length) const {
   static const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
   if (data_ == nullptr || offset >= size_) return;
   length = std::min(length, size_ - offset);
-  const std::uintptr_t start = reinterpret_cast<std::uintptr_t>(data_) + offset;
-  const std::uintptr_t first = (start + page - 1) / page * page, end = (start + length) / page * page;
+  // Whole pages, rounded outward: a page shared with a neighbouring frame is
+  // read back from the page cache if that frame is read again, so nothing is
+  // left resident frame after frame.
+  const std::uintptr_t base = reinterpret_cast<std::uintptr_t>(data_);  // page-aligned (mmap)
+  const std::uintptr_t first = (base + offset) / page * page;
+  const std::uintptr_t end = std::min(base + size_, (base + offset + length + page - 1) / page * page);
   // Advice only: a failure leaves the pages resident, which is harmless.
   if (first < end) (void)::madvise(reinterpret_cast<void*>(first), end - first, MADV_DONTNEED);
 }

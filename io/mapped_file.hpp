@@ -23,9 +23,10 @@ class MappedFile {
   std::string_view bytes() const { return {data_, size_}; }
   const std::string& path() const { return path_; }
   /// Says that bytes [offset, offset + length) will not be read again soon:
-  /// the whole pages inside leave this process's resident memory (they stay
-  /// in the page cache and are read back if touched again), so that reading a
-  /// long cache frame after frame keeps the resident size flat.
+  /// the pages that hold them leave this process's resident memory (they stay
+  /// in the page cache and are read back if touched again, so the mapping's
+  /// contents never change), so that reading a long cache frame after frame
+  /// keeps the resident size flat.
   void release(std::size_t offset, std::size_t length) const;
 
  private:

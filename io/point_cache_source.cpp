@@ -42,7 +42,11 @@ void PointCacheSource::read_frame(std::size_t i, std::vector<Vec3>& positions) c
     read_point_cache_frame(file_.bytes(), layout_, i, points.data(), file_.path());
     gather_object_positions(objects_, points.data(), positions.data());
   }
-  file_.release(layout_.first_frame_offset + i * frame_bytes, frame_bytes);
+  // Everything up to this frame's end, not this frame alone: the kernel maps
+  // pages around each fault (fault-around), so pages of earlier frames come
+  // back with the next frame's first fault; releasing from the first frame on
+  // drops them again, and costs little where nothing is mapped.
+  file_.release(layout_.first_frame_offset, (i + 1) * frame_bytes);
 }
 
 std::string PointCacheSource::description() const {

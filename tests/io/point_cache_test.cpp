@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cctype>
+#include <fstream>
 #include <limits>
 
 #include "io/mdd_reader.hpp"
@@ -98,6 +101,46 @@ TEST(PointCache, GathersObjectVerticesOfAMultiObjectTopology) {
   source->read_frame(1, positions);
   const int file_vertex[6] = {0, 1, 3, 4, 5, 6};
   for (int k = 0; k < 6; ++k) EXPECT_EQ(positions[k].x, static_cast<double>(coordinate(1, file_vertex[k], 0)));
+}
+
+/// The resident size, in KiB, of this process's mappings of `path` (smaps).
+std::size_t resident_kib_of(const std::string& path) {
+  std::ifstream smaps("/proc/self/smaps");
+  std::string line;
+  bool inside = false;
+  std::size_t kib = 0;
+  while (std::getline(smaps, line)) {
+    if (!line.empty() && std::isxdigit(static_cast<unsigned char>(line[0])) && line.find('-') < line.find(' ')) {
+      inside = line.size() >= path.size() && line.compare(line.size() - path.size(), path.size(), path) == 0;
+    } else if (inside && line.rfind("Rss:", 0) == 0) {
+      kib += std::stoul(line.substr(4));
+    }
+  }
+  return kib;
+}
+
+// A long cache read frame after frame keeps a flat resident size: each
+// frame's pages leave the process once read (they stay in the page cache).
+TEST(PointCache, ReadingEveryFrameLeavesFewPagesResident) {
+  const int points = 10007, frames = 300;  // 120 KB frames, not page-aligned: 36 MB
+  testing::TempDir dir;
+  std::string obj = "o Cloud\n";
+  for (int p = 0; p < points; ++p) obj += "v 0 0 0\n";
+  for (int p = 1; p + 2 <= points; p += 3) obj += "f " + std::to_string(p) + " " + std::to_string(p + 1) + " " + std::to_string(p + 2) + "\n";
+  obj += "f " + std::to_string(points - 2) + " " + std::to_string(points - 1) + " " + std::to_string(points) + "\n";
+  CacheOptions options;
+  const std::string cache = dir.write("long.pc2", pc2(points, frames));
+  options.inputs.push_back({cache, dir.write("long.obj", obj), ""});
+  const auto source = open_cache(options);
+  std::vector<Vec3> positions;
+  std::size_t largest = 0;
+  for (int f = 0; f < frames; ++f) {
+    source->read_frame(f, positions);
+    ASSERT_EQ(positions.size(), static_cast<std::size_t>(points));
+    ASSERT_EQ(positions[points - 1].x, coordinate(f, points - 1, 0));
+    largest = std::max(largest, resident_kib_of(cache));
+  }
+  EXPECT_LT(largest, 1024u) << "KiB of the 36 MB cache resident at once";
 }
 
 TEST(PointCache, RejectsTruncatedPc2) {
