@@ -116,12 +116,13 @@ void write_marked_meshes(const std::vector<ex::ReportDigest>& digests,
                              " was scanned with --events none, so its regions have no face lists to mark");
     }
   }
-  std::error_code error;
-  std::filesystem::create_directories(directory, error);
-  if (error) throw snag::UsageError("--marked-meshes " + directory + ": " + error.message());
   for (std::size_t r = 0; r < digests.size(); ++r) {
     if (frames[r].empty()) continue;
     const ex::FramePositions positions(digests[r], cache);
+    // Made once the cache is known to be the report's, so that a wrong --cache leaves nothing behind.
+    std::error_code error;
+    std::filesystem::create_directories(directory, error);
+    if (error) throw snag::UsageError("--marked-meshes " + directory + ": " + error.message());
     for (std::size_t frame : frames[r]) {
       const std::vector<std::size_t> regions = ex::face_regions(digests[r], positions.scene(), frame);
       const std::string comment = digests[r].path + " frame " + std::to_string(frame);
