@@ -251,32 +251,44 @@ int main(int argc, char** argv) {
   ReportOptions options;
   snag::tools::CacheArguments cache;
   app.add_option("reports", options.reports, "Scan reports (JSON Lines, snag-report(5)); '-' reads standard input")
-      ->required();
-  app.add_option("--html", options.html, "Write the HTML page (one self-contained file; '-' = standard output)");
-  app.add_option("--junit", options.junit, "Write JUnit XML, a testsuite per report ('-' = standard output)");
+      ->required()
+      ->type_name("REPORT");
+  app.add_option("--html", options.html, "Write the HTML page (one self-contained file; '-' = standard output)")
+      ->type_name("FILE");
+  app.add_option("--junit", options.junit, "Write JUnit XML, a testsuite per report ('-' = standard output)")
+      ->type_name("FILE");
   app.add_option("--junit-granularity", options.junit_granularity,
                  "pair: a testcase per object pair and kind; track: a testcase per track")
       ->check(CLI::IsMember({"pair", "track"}));
-  app.add_option("--csv", options.csv, "Write CSV, a row per region or event ('-' = standard output)");
+  app.add_option("--csv", options.csv, "Write CSV, a row per region or event ('-' = standard output)")
+      ->type_name("FILE");
   app.add_option("--csv-rows", options.csv_rows, "regions (default) or events (the events the reports list)")
       ->check(CLI::IsMember({"regions", "events"}));
-  app.add_option("--markdown", options.markdown, "Write a Markdown summary ('-' = standard output)");
+  app.add_option("--markdown", options.markdown, "Write a Markdown summary ('-' = standard output)")
+      ->type_name("FILE");
   app.add_option("--marked-meshes", options.marked_meshes,
-                 "Write a PLY per drawn frame into DIR (REPORTSTEM_frame_N.ply), regions' faces coloured; needs --cache");
+                 "Write a PLY per drawn frame into DIR (STEM_frame_N.ply), the faces of each region\n"
+                 "coloured; needs --cache")
+      ->type_name("DIR");
   app.add_option("--frames", options.frames,
                  "Frames to draw (--html) and mark (--marked-meshes): cache frame indices, N, A:B or A:B:STEP,\n"
-                 "comma-separated (default: the --worst frames)");
-  app.add_option("--worst", options.worst, "Without --frames: draw and mark each report's N frames with the most events")
-      ->check(CLI::NonNegativeNumber);
+                 "comma-separated (default: the --worst frames)")
+      ->type_name("LIST");
+  app.add_option("--worst", options.worst, "Without --frames: draw and mark each report's N frames with the most events (default 3)")
+      ->check(CLI::Range(0, 100000))
+      ->type_name("N");
   app.add_option("--cache", cache.inputs,
                  "The report's cache, one input per --cache in the scan's order (a mesh file, pattern, glob,\n"
                  "directory, point cache or animated file); the report's frame selection and weld apply")
+      ->type_name("INPUT")
       ->allow_extra_args(false)
       ->take_all();
   app.add_option("-t,--topology", cache.topologies, "Topology mesh of each point cache --cache, in order")
+      ->type_name("MESH")
       ->allow_extra_args(false)
       ->take_all();
   app.add_option("-n,--name", cache.names, "Object name of each --cache input, in order (as given to snag-scan)")
+      ->type_name("NAME")
       ->allow_extra_args(false)
       ->take_all();
   app.add_flag("-s,--sequence", cache.sequence, "The --cache inputs are the frames of one mesh sequence");
