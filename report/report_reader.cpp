@@ -25,6 +25,7 @@ namespace snag::report {
 namespace {
 
 constexpr std::size_t kChunk = std::size_t{8} << 20;
+constexpr std::size_t kFirstBuffer = std::size_t{64} << 10;  // grows by doubling to kChunk: small reports stay cheap
 constexpr std::size_t kMaxLine = std::size_t{256} << 20;
 
 using simdjson::dom::array;
@@ -45,7 +46,7 @@ class LineSource {
       }
       owned_ = true;
     }
-    reserve(kChunk);
+    reserve(kFirstBuffer);
   }
   ~LineSource() {
     if (owned_) std::fclose(file_);
@@ -108,7 +109,7 @@ class LineSource {
       end_ -= begin_;
       begin_ = 0;
     }
-    if (capacity_ - end_ < kChunk / 2) reserve(std::min(2 * capacity_, kMaxLine + kChunk));
+    if (capacity_ - end_ < std::min(capacity_, kChunk) / 2) reserve(std::min(2 * capacity_, kMaxLine + kChunk));
     const std::size_t n = std::fread(buffer_.get() + end_, 1, capacity_ - end_, file_);
     end_ += n;
     if (n == 0) {

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, address + undefined sanitizers) in
 # build-fuzz/ and runs each for a fixed time from its seed corpus in
-# fuzz/corpus/<format>/. New inputs go to build-fuzz/corpus/<format>/ so the
+# fuzz/corpus/<format>/ (meshes, point caches, reports, scene manifests). New inputs go to build-fuzz/corpus/<format>/ so the
 # committed seeds stay small. Then each target runs once over every file of
 # fuzz/corpus-degenerate/<format>/ (degenerate meshes: collapsed triangles,
 # coincident vertices, zero-length edges, huge and tiny coordinates, repeated
@@ -17,7 +17,7 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined" \
   -DSNAG_BUILD_FUZZERS=ON -DSNAG_BUILD_TESTS=OFF -DSNAG_BUILD_BENCHMARKS=OFF \
   -DSNAG_WITH_CUDA=OFF -DSNAG_WITH_CGAL=OFF -DSNAG_WITH_OPENVDB=OFF -DSNAG_WITH_ASSIMP=OFF >/dev/null
-formats=(ply obj stl pc2 mdd)
+formats=(ply obj stl pc2 mdd report manifest)
 ninja -C "$build" -j"${JOBS:-2}" "${formats[@]/#/fuzz_}"
 status=0
 for format in "${formats[@]}"; do
