@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
   mandoc man-db python3
+  chromium libjs-chart.js libjs-three
 )
 
 sudo=""
