@@ -110,7 +110,13 @@ std::vector<std::vector<std::size_t>> frames_to_draw(const std::vector<ex::Repor
 void write_marked_meshes(const std::vector<ex::ReportDigest>& digests,
                          const std::vector<std::vector<std::size_t>>& frames,
                          const snag::io::CacheOptions& cache, const std::string& directory) {
+  std::map<std::string, std::string> stems;  // file names are made from the reports' stems
   for (const ex::ReportDigest& digest : digests) {
+    auto [other, fresh] = stems.emplace(ex::report_stem(digest.path), digest.path);
+    if (!fresh) {
+      throw snag::UsageError("--marked-meshes: " + other->second + " and " + digest.path +
+                             " would write the same file names (" + other->first + "_frame_N.ply): rename one");
+    }
     if (digest.header.settings.events == "none") {
       throw snag::UsageError("--marked-meshes: " + digest.path +
                              " was scanned with --events none, so its regions have no face lists to mark");

@@ -338,6 +338,7 @@ TEST_F(SnagReport, BadUsageAndInputExitTwoWithOneLine) {
   expect_error(with({*failing_, "--marked-meshes", out("m")}, {"--cache", kClothPc2, "-t", kClothRest}),
                *failing_ + ": the --cache inputs are not the cache of this report");
   expect_error(with({*failing_, "--marked-meshes", out("m"), "--frames", "5"}, cache_options()), "frame 5");
+  expect_error(with({*failing_, *failing_, "--marked-meshes", out("m")}, cache_options()), "same file names");
   expect_error({*failing_, "--csv-rows", "events"}, "--csv");
   expect_error({*failing_, "--junit", "-", "--csv", "-"}, "standard output");
   expect_error({*failing_, "--junit-granularity", "frame", "--junit", out("j.xml")}, "granularity", 2);
