@@ -103,6 +103,20 @@ TEST_F(HandMadeReport, CheckedPairsFollowTheRulesAndOnlyCountedKindsFail) {
   EXPECT_EQ(exporters::pair_label(digest.header, 1, 1), kBody + " (self)");
 }
 
+TEST(HandMadeReportWithoutFaces, ExportersWorkWithoutRegionFaceLists) {
+  TemporaryDirectory dir;
+  const std::string path = dir.path("bare.jsonl");
+  write_hand_made_report(path, "none");
+  const ReportDigest digest = exporters::read_digest(path, {}, true);
+  ASSERT_EQ(digest.regions.size(), 4u);
+  EXPECT_TRUE(digest.regions[0].faces_a.empty());
+  EXPECT_EQ(digest.face_counts, (std::vector<std::size_t>(4, 0))) << "the reader keeps no count without the lists";
+  std::ostringstream xml;
+  exporters::write_junit(xml, {digest}, exporters::JunitGranularity::kPair);
+  const json junit = python_check("check_junit.py", dir.write("junit.xml", xml.str()));
+  EXPECT_EQ(junit["failures"], 1);
+}
+
 TEST(ReportStem, DropsDirectoryAndReportExtension) {
   EXPECT_EQ(exporters::report_stem("runs/shot.v2.jsonl"), "shot.v2");
   EXPECT_EQ(exporters::report_stem("a.json"), "a");
