@@ -29,7 +29,7 @@
     return typeof n === 'number' ? n.toLocaleString('en-US', { maximumSignificantDigits: 6 }) : String(n);
   }
   function vec(v) {
-    return v ? '(' + v.map(function (x) { return x.toLocaleString('en-US', { maximumSignificantDigits: 4 }); }).join(', ') + ')' : '\u2013';
+    return v ? '(' + v.map(function (x) { return x.toLocaleString('en-US', { maximumSignificantDigits: 3 }); }).join(', ') + ')' : '\u2013';
   }
   function decode(b64, Type) {
     var text = atob(b64), bytes = new Uint8Array(text.length);
@@ -178,7 +178,8 @@
   function renderTracks(report, body, state) {
     body.appendChild(el('h3', { text: 'Tracks (' + fmt(report.tracks.length) + ')' }));
     body.appendChild(el('p', { class: 'note', text: 'A track is a problem followed over consecutive frames: ' +
-      'the regions of one pair and kind that share faces. Click a header to sort, a row to show its worst frame.' +
+      'the regions of one pair and kind that share faces. Highlighted: the tracks of the selected frame. ' +
+      'Click a header to sort, a row to show its worst frame.' +
       (report.merged_tracks === 1 ? ' 1 track merged into another is counted in it.' : '') +
       (report.merged_tracks > 1 ? ' ' + fmt(report.merged_tracks) + ' tracks merged into others are counted in them.' : '') }));
     if (!report.tracks.length) {
@@ -429,8 +430,6 @@
     wrap.appendChild(container);
     wrap.appendChild(legend);
     body.appendChild(wrap);
-    body.appendChild(el('p', { class: 'note', text: 'Drag to orbit, right-drag to pan, wheel to zoom. ' +
-      'Each region of the frame has its own colour; click a region in the list to look at it.' }));
 
     var drawer = null, webgl = false;
     if (webglAvailable && window.THREE && THREE.OrbitControls) {
@@ -443,6 +442,9 @@
       drawer = new FlatView(container, geometry);
     }
 
+    body.appendChild(el('p', { class: 'note', text: (webgl ? 'Drag to orbit, right-drag to pan, wheel to zoom. ' +
+      'Each region of the frame has its own colour; click a region in the list to look at it.' :
+      'Each region of the frame has its own colour.') }));
     var result = { webgl: webgl, frame: null, regions: 0, faces: drawnFaces };
     function show(frame) {
       var slot = geometry.frames.map(function (f) { return f.frame; }).indexOf(frame);
