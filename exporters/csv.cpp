@@ -88,7 +88,7 @@ void write_region_csv(std::ostream& out, const std::vector<ReportDigest>& report
       CsvRow row(out);
       row.text(digest.path).count(r.id).text(report::kind_name(r.kind));
       row.text(object_name(digest.header, r.object_a)).text(object_name(digest.header, r.object_b));
-      row.count(r.frame).count(root_track_of(digest, r.track)).count(r.events).count(digest.face_counts[i]);
+      row.count(r.frame).count(root_track_of(digest, r.track)).count(r.events).count(r.face_count);
       row.point(r.bounds.lo).point(r.bounds.hi).point(r.centroid);
       if (r.kind == EventKind::kCollision) {
         row.real(r.toi);

@@ -14,10 +14,8 @@ namespace snag::exporters {
 namespace {
 
 // The larger of two regions for ReportDigest::largest_region: more faces, else the earlier id.
-std::size_t face_count(const report::RegionRecord& region) { return region.faces_a.size() + region.faces_b.size(); }
-
 bool larger_region(const report::RegionRecord& x, const report::RegionRecord& y) {
-  return face_count(x) > face_count(y) || (face_count(x) == face_count(y) && x.id < y.id);
+  return x.face_count > y.face_count || (x.face_count == y.face_count && x.id < y.id);
 }
 
 }  // namespace
@@ -43,7 +41,6 @@ ReportDigest read_digest(const std::string& path, const std::set<std::size_t>& k
         auto [it, inserted] = largest_by_given_track.try_emplace(region.track, region);
         if (!inserted && larger_region(region, it->second)) it->second = region;
         digest.regions.push_back(region);
-        digest.face_counts.push_back(face_count(region));
         if (!keep_all_faces && keep_faces_of.count(region.frame) == 0) {
           digest.regions.back().faces_a = {};
           digest.regions.back().faces_b = {};
@@ -66,13 +63,8 @@ ReportDigest read_digest(const std::string& path, const std::set<std::size_t>& k
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t x, std::size_t y) { return digest.regions[x].id < digest.regions[y].id; });
   std::vector<report::RegionRecord> regions;
-  std::vector<std::size_t> face_counts;
-  for (std::size_t i : order) {
-    regions.push_back(std::move(digest.regions[i]));
-    face_counts.push_back(digest.face_counts[i]);
-  }
+  for (std::size_t i : order) regions.push_back(std::move(digest.regions[i]));
   digest.regions = std::move(regions);
-  digest.face_counts = std::move(face_counts);
 
   std::map<std::size_t, std::size_t> merged_into;
   for (const report::TrackRecord& track : digest.tracks) merged_into[track.id] = track.merged_into;

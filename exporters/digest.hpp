@@ -18,11 +18,9 @@ struct ReportDigest {
   std::string path;
   report::Header header;
   std::vector<report::FrameRecord> frames;    ///< in scan order
-  std::vector<report::RegionRecord> regions;  ///< in id order; faces_a/faces_b empty outside the kept frames
-  /// Per region (same order as `regions`): its number of faces, also where
-  /// the lists were not kept. 0 in reports scanned with --events none, whose
-  /// regions list no faces (report::RegionRecord has no count of its own).
-  std::vector<std::size_t> face_counts;
+  /// In id order; faces_a/faces_b empty outside the kept frames (face_count
+  /// always holds the region's number of faces).
+  std::vector<report::RegionRecord> regions;
   std::vector<report::TrackRecord> tracks;    ///< every track record, merged ones included, in report order
   report::Trailer trailer;
   /// Track id -> the id of the track it ended in: itself, or the end of its

@@ -201,7 +201,7 @@ json view_json(const ReportDigest& r, const HtmlScene& scene, std::size_t budget
                            {"frame", record.frame},
                            {"track", record.track},
                            {"events", record.events},
-                           {"face_count", record.faces_a.size() + record.faces_b.size()},
+                           {"face_count", record.face_count},
                            {"centroid", vec3(record.centroid)},
                            {"faces", faces}});
   }

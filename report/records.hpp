@@ -111,6 +111,7 @@ struct RegionRecord {
   /// Sorted local face ids; faces_b empty when a == b. Reports written with
   /// settings.events "none" omit the lists (face_count stays): both empty.
   std::vector<std::size_t> faces_a, faces_b;
+  std::size_t face_count = 0;              ///< faces_a.size() + faces_b.size() as built, kept when lists are not
   std::size_t events = 0;
   Bounds bounds;
   Vec3 centroid;

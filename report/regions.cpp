@@ -199,6 +199,7 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
     RegionRecord& region = sorted[k];
     std::sort(region.faces_a.begin(), region.faces_a.end());
     std::sort(region.faces_b.begin(), region.faces_b.end());
+    region.face_count = region.faces_a.size() + region.faces_b.size();
     region.centroid = (1.0 / static_cast<double>(region.events)) * region.centroid;
     regions[first_region + k] = std::move(region);
   }

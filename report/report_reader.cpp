@@ -595,9 +595,9 @@ struct ReportReader::State {
     }
     r.track = count(o, "track");
     r.events = count(o, "events");
-    const std::size_t face_count = count(o, "face_count");
+    r.face_count = count(o, "face_count");
     // Reports that list no events (settings.events "none") list no faces either.
-    if (o.at_key("faces").error() == simdjson::SUCCESS) read_region_faces(o, r, face_count);
+    if (o.at_key("faces").error() == simdjson::SUCCESS) read_region_faces(o, r, r.face_count);
     r.bounds = bounds(o, "bounds");
     r.centroid = vec3(o, "centroid");
     if (r.kind == EventKind::kCollision) r.toi = number(o, "toi");

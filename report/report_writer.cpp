@@ -225,7 +225,7 @@ void ReportWriter::write_region(const RegionRecord& r) {
   j.key("frame").number(r.frame);
   j.key("track").number(r.track);
   j.key("events").number(r.events);
-  j.key("face_count").number(r.faces_a.size() + r.faces_b.size());
+  j.key("face_count").number(r.face_count);
   auto faces = [&](std::size_t object, const std::vector<std::size_t>& ids) {
     j.raw("{").key("object", true);
     object_name(object);

@@ -53,6 +53,7 @@ inline void write_hand_made_report(const std::string& path, const std::string& e
     r.track = track;
     r.faces_a = std::move(faces_a);
     r.faces_b = std::move(faces_b);
+    r.face_count = r.faces_a.size() + r.faces_b.size();
     r.events = events;
     r.bounds = {{0.1 * id, 0, 0}, {0.1 * id + 1, 1, 1}};
     r.centroid = {0.1 * id + 0.5, 1.0 / 3.0, -2.5e-7};

@@ -63,6 +63,7 @@ inline exporters::ReportDigest grid_report(std::size_t n, std::size_t frames, st
     region.kind = EventKind::kIntersection;
     region.frame = f;
     region.faces_a = quad_faces(n, i, j);
+    region.face_count = region.faces_a.size();
     region.events = 3;
     const double s = 1.0 / double(n);
     region.bounds = {{double(i) * s, double(j) * s, 0}, {double(i + 1) * s, double(j + 1) * s, 0}};
