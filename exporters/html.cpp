@@ -8,6 +8,7 @@
 
 #include "exporters/html_assets.hpp"
 #include "exporters/html_decimation.hpp"
+#include "exporters/markup.hpp"
 #include "libcd/core/error.hpp"
 #include "report/summary.hpp"
 
@@ -16,21 +17,7 @@ namespace {
 
 using nlohmann::json;
 
-std::string html_escape(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
+std::string html_escape(std::string_view text) { return markup_escape(text); }
 
 /// The little-endian bytes of `values` (4-byte floats or integers) in base64;
 /// the page decodes them with atob into typed arrays.

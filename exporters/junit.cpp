@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "exporters/markup.hpp"
 #include "report/summary.hpp"
 
 namespace snag::exporters {
@@ -15,26 +16,7 @@ namespace {
 constexpr std::size_t kMaxListedIds = 32;     // face ids listed per object in a failure
 constexpr std::size_t kMaxListedTracks = 20;  // tracks listed in a pair's failure text
 
-// Text for XML attributes and content: markup characters escaped, and the
-// control characters XML 1.0 cannot hold replaced.
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      case '\n': out += "&#10;"; break;
-      case '\t': out += "&#9;"; break;
-      default:
-        out += static_cast<unsigned char>(c) < 0x20 ? '?' : c;
-    }
-  }
-  return out;
-}
+std::string xml_escape(const std::string& text) { return markup_escape(text); }
 
 // Content text keeps its line breaks.
 std::string xml_text(const std::string& text) {
