@@ -241,15 +241,24 @@ TEST_F(HtmlInBrowser, WithoutWebGLTheViewIsDrawnFlatAndSaysSo) {
 }
 
 TEST_F(HtmlInBrowser, BatchPageListsEveryReport) {
-  // The sample with its worst frame, and a window of it without positions.
+  // The sample with its worst frame, a window of it without positions, and
+  // the reference scene (cloth_ball 92 -> 93 of the shared meshes) without positions.
   const std::string window = dir_->path("window.jsonl");
   std::vector<std::string> arguments = sample_pc2_inputs();
   arguments.insert(arguments.end(), {"--frames", "24:26", "--threads", "2", "-q", "-r", window});
   ASSERT_EQ(run_process(SNAG_SCAN_EXE, arguments).exit_code, 1);
+  const std::string reference = dir_->path("cloth_ball92_93.jsonl");
+  const std::string meshes = std::string(SNAG_SHARED_DATA_DIR) + "/meshes/";
+  ASSERT_EQ(run_process(SNAG_SCAN_EXE, {"--sequence", meshes + "cloth_ball92.ply", meshes + "cloth_ball93.ply",
+                                        "--events", "regions", "-q", "-r", reference})
+                .exit_code,
+            1);
   const std::vector<std::size_t> worst = exporters::worst_frames(digest(), 1);
-  std::vector<exporters::ReportDigest> reports{digest({worst.begin(), worst.end()}), exporters::read_digest(window)};
+  std::vector<exporters::ReportDigest> reports{digest({worst.begin(), worst.end()}), exporters::read_digest(window),
+                                               exporters::read_digest(reference)};
   exporters::HtmlInputs inputs;
   inputs.scenes.emplace_back(scene(reports[0], worst));
+  inputs.scenes.emplace_back();
   inputs.scenes.emplace_back();
   const std::string page = write_page("batch.html", reports, inputs);
 
@@ -257,12 +266,19 @@ TEST_F(HtmlInBrowser, BatchPageListsEveryReport) {
   const auto body = attributes_of(dom, "body");
   EXPECT_EQ(body.count("data-error"), 0u) << body.at("data-error");
   EXPECT_EQ(body.at("data-ready"), "1");
-  EXPECT_EQ(body.at("data-reports"), "2");
-  EXPECT_EQ(body.at("data-frames-charted"), std::to_string(reports[0].frames.size() + reports[1].frames.size()));
-  EXPECT_EQ(body.at("data-tracks-listed"), std::to_string(reports[0].trailer.tracks + reports[1].trailer.tracks));
+  EXPECT_EQ(body.at("data-reports"), "3");
+  std::size_t frames = 0, tracks = 0;
+  for (const exporters::ReportDigest& report : reports) {
+    frames += report.frames.size();
+    tracks += report.trailer.tracks;
+  }
+  EXPECT_EQ(body.at("data-frames-charted"), std::to_string(frames));
+  EXPECT_EQ(body.at("data-tracks-listed"), std::to_string(tracks));
   EXPECT_EQ(body.at("data-regions-coloured"), std::to_string(regions_with_faces(reports[0], worst[0])));
   EXPECT_NE(dom.find("<table class=\"summary\">"), std::string::npos);
   EXPECT_NE(dom.find("id=\"report-1\""), std::string::npos);
+  EXPECT_NE(dom.find("id=\"report-2\""), std::string::npos);
+  EXPECT_NE(dom.find("cloth_ball92_93.jsonl"), std::string::npos);
   EXPECT_NE(dom.find("This page carries no positions"), std::string::npos);
 }
 
