@@ -4,6 +4,8 @@
 #include <limits>
 #include <numeric>
 
+#include "libcd/pipeline/event_objects.hpp"
+
 namespace snag::report {
 
 namespace {
@@ -25,17 +27,7 @@ Bounds empty_bounds() {
 }  // namespace
 
 std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Event& e) {
-  std::size_t a = 0, b = 0;
-  if (e.kind == EventKind::kIntersection) {
-    a = scene.object_of_triangle(e.a);
-    b = scene.object_of_triangle(e.b);
-  } else if (e.type == ContactType::kVertexFace) {
-    a = scene.object_of_vertex(e.a);
-    b = scene.object_of_triangle(e.b);
-  } else {
-    a = scene.object_of_edge(e.a);
-    b = scene.object_of_edge(e.b);
-  }
+  const auto [a, b] = element_objects(scene, e);
   return {std::min(a, b), std::max(a, b)};
 }
 

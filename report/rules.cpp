@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "libcd/core/error.hpp"
+#include "libcd/pipeline/event_objects.hpp"
 
 namespace snag::report {
 
@@ -168,18 +169,6 @@ bool RuleSet::thickness_varies() const {
 
 bool RuleSet::pair_checked(std::size_t a, std::size_t b) const { return checked_[a * thickness_.size() + b] != 0; }
 
-std::pair<std::size_t, std::size_t> RuleSet::objects_of(const Event& event) const {
-  switch (event.type) {
-    case ContactType::kVertexFace:
-      return {scene_->object_of_vertex(event.a), scene_->object_of_triangle(event.b)};
-    case ContactType::kEdgeEdge:
-      return {scene_->object_of_edge(event.a), scene_->object_of_edge(event.b)};
-    case ContactType::kTriangleTriangle:
-      break;
-  }
-  return {scene_->object_of_triangle(event.a), scene_->object_of_triangle(event.b)};
-}
-
 // Breadth-first search by levels from the corners of side a, at most
 // `neighbourhood` edges deep, stopping at the first corner of side b. On an
 // undirected graph the neighbours of level L lie in levels L - 1, L and
@@ -244,7 +233,7 @@ bool RuleSet::allows(const AllowRule& rule, const ResolvedAllow& resolved, std::
 }
 
 Disposition RuleSet::classify(const Event& event) const {
-  const auto [a, b] = objects_of(event);
+  const auto [a, b] = element_objects(*scene_, event);
   if (!pair_checked(a, b)) return {Disposition::kNotChecked, 0};
   if (a == b && rules_.neighbourhood > 0 && within_rings(event)) return {Disposition::kNeighbourhood, 0};
   for (std::size_t r = 0; r < allow_.size(); ++r) {

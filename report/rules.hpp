@@ -89,8 +89,6 @@ class RuleSet {
   struct ResolvedAllow {
     std::vector<char> side_a, side_b;  ///< #objects flags; empty: any object
   };
-  /// The objects of an event's two sides.
-  std::pair<std::size_t, std::size_t> objects_of(const Event& event) const;
   /// Whether the event's two elements (one object) lie within `neighbourhood` rings.
   bool within_rings(const Event& event) const;
   bool allows(const AllowRule& rule, const ResolvedAllow& resolved, std::size_t a, std::size_t b,

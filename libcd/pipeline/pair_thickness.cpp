@@ -6,6 +6,7 @@
 #include <cassert>
 
 #include "libcd/pipeline/event_builder.hpp"
+#include "libcd/pipeline/event_objects.hpp"
 
 namespace snag {
 
@@ -75,8 +76,7 @@ RedecideCounts redecide_at_pair_thickness(const Scene& scene, const std::vector<
     const Event& e = events[i];
     if (e.kind != EventKind::kCollision) continue;
     const bool vf = e.type == ContactType::kVertexFace;
-    const std::size_t a = vf ? scene.object_of_vertex(e.a) : scene.object_of_edge(e.a);
-    const std::size_t b = vf ? scene.object_of_triangle(e.b) : scene.object_of_edge(e.b);
+    const auto [a, b] = element_objects(scene, e);
     const double thickness = 0.5 * (object_thickness[a] + object_thickness[b]);
     if (!(thickness < run_thickness)) continue;
     auto group = std::find_if(groups.begin(), groups.end(), [&](const Group& g) { return g.thickness == thickness; });
