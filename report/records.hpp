@@ -100,6 +100,27 @@ struct Bounds {
   Vec3 lo, hi;
 };
 
+/// How bad an intersection region is, in scene units: written by snag-volume
+/// only (the "measures" object of a region record, man/snag-report.5). Which
+/// fields hold a value depends on `measure`:
+/// - "overlap_volume" (two closed objects) and "self_overlap_volume" (a closed
+///   object where its winding number is two or more): volume, volume_error;
+/// - "penetration" (an open object into a closed one): depth, depth_error,
+///   area, area_error;
+/// - "curve_length" (open objects, or one open object with itself):
+///   curve_length, segments (no voxels: voxel_size 0).
+/// The errors are estimates: the change from the measure at twice the voxel size.
+struct RegionMeasures {
+  std::string measure;
+  std::string reason;            ///< why this measure: each object's closedness
+  double voxel_size = 0;
+  double volume = 0, volume_error = 0;
+  double depth = 0, depth_error = 0;
+  double area = 0, area_error = 0;
+  double curve_length = 0;
+  std::size_t segments = 0;      ///< intersecting triangle pairs whose segments make the curve
+};
+
 /// Connected problem area of one frame (intersections) or step (collisions)
 /// between one pair of objects.
 struct RegionRecord {
@@ -116,6 +137,7 @@ struct RegionRecord {
   Bounds bounds;
   Vec3 centroid;
   double toi = 0;                          ///< collisions: the earliest time of impact (absolute)
+  std::optional<RegionMeasures> measures;  ///< snag-volume's measures; absent in snag-scan's reports
 };
 
 /// Regions of consecutive frames that share faces.

@@ -601,10 +601,35 @@ struct ReportReader::State {
     r.bounds = bounds(o, "bounds");
     r.centroid = vec3(o, "centroid");
     if (r.kind == EventKind::kCollision) r.toi = number(o, "toi");
+    // Written by snag-volume only.
+    if (o.at_key("measures").error() == simdjson::SUCCESS) r.measures = read_region_measures(dict(o, "measures"));
     if (!frame_regions.insert(r.id).second) {
       fail("region record: region " + std::to_string(r.id) + " is listed twice in frame " + std::to_string(r.frame));
     }
     region = std::move(r);
+  }
+
+  RegionMeasures read_region_measures(const object& o) const {
+    RegionMeasures m;
+    m.measure = std::string(text(o, "measure"));
+    m.reason = std::string(text(o, "reason"));
+    m.voxel_size = number(o, "voxel_size");
+    if (m.measure == "overlap_volume" || m.measure == "self_overlap_volume") {
+      m.volume = number(o, "volume");
+      m.volume_error = number(o, "volume_error");
+    } else if (m.measure == "penetration") {
+      m.depth = number(o, "depth");
+      m.depth_error = number(o, "depth_error");
+      m.area = number(o, "area");
+      m.area_error = number(o, "area_error");
+    } else if (m.measure == "curve_length") {
+      m.curve_length = number(o, "curve_length");
+      m.segments = count(o, "segments");
+    } else {
+      fail("region record: unknown measure \"" + m.measure +
+           "\" (overlap_volume, self_overlap_volume, penetration or curve_length)");
+    }
+    return m;
   }
 
   void read_region_faces(const object& o, RegionRecord& r, std::size_t face_count) {

@@ -248,7 +248,28 @@ void ReportWriter::write_region(const RegionRecord& r) {
   j.key("bounds").raw("[").vec3(r.bounds.lo).raw(",").vec3(r.bounds.hi).raw("]");
   j.key("centroid").vec3(r.centroid);
   if (r.kind == EventKind::kCollision) j.key("toi").number(r.toi);
+  if (r.measures) region_measures(*r.measures);
   end_line();
+}
+
+void ReportWriter::region_measures(const RegionMeasures& m) {
+  JsonText& j = line_;
+  j.key("measures").raw("{").key("measure", true).string(m.measure);
+  j.key("reason").string(m.reason);
+  j.key("voxel_size").number(m.voxel_size);
+  if (m.measure == "overlap_volume" || m.measure == "self_overlap_volume") {
+    j.key("volume").number(m.volume);
+    j.key("volume_error").number(m.volume_error);
+  } else if (m.measure == "penetration") {
+    j.key("depth").number(m.depth);
+    j.key("depth_error").number(m.depth_error);
+    j.key("area").number(m.area);
+    j.key("area_error").number(m.area_error);
+  } else if (m.measure == "curve_length") {
+    j.key("curve_length").number(m.curve_length);
+    j.key("segments").number(m.segments);
+  }
+  j.raw("}");
 }
 
 void ReportWriter::track_fields(const TrackRecord& t) {

@@ -39,6 +39,7 @@ class ReportWriter {
   void object_name(std::size_t o);
   void object_pair(std::size_t a, std::size_t b);  ///< ,"objects":[a,b]
   void track_fields(const TrackRecord& track);
+  void region_measures(const RegionMeasures& measures);  ///< ,"measures":{...}
 
   std::ostream& out_;
   std::vector<std::string> names_;
