@@ -17,6 +17,9 @@
 //  4. The sample cache end to end through scan_cache (reading included):
 //     frames per second.
 // Prints a table last; --json FILE (or --benchmark_out=FILE) writes the results.
+// --write-refined DIR only writes the refined cloth's frames (Loop-subdivided
+// once and twice, the whole step) as PLY files for the end-to-end benchmark
+// (bench/scan/scan_bench.py) and exits.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -32,6 +35,7 @@
 
 #include "bench/broad_phase/binary_ply.hpp"
 #include "bench/gpu/loop_subdivision.hpp"
+#include "bench/gpu/write_ply.hpp"
 #include "io/open_cache.hpp"
 #include "libcd/cuda/cuda_backend.hpp"
 #include "libcd/cuda/cuda_error.hpp"
@@ -59,6 +63,7 @@ double median(std::vector<double> values) {
 
 struct Options {
   std::string json_path;
+  std::string refined_dir;  ///< --write-refined: write the refined frames here and stop
   std::string data_dir = SNAG_SHARED_DATA_DIR;
   std::string samples_dir = std::string(SNAG_SOURCE_DIR) + "/samples";
   int runs = 20, warmup = 2, large_runs = 5, large_cpu_runs = 1;
@@ -241,6 +246,9 @@ Options parse(int argc, char** argv) {
       options.large_runs = std::max(1, std::atoi(value("--large-runs").c_str()));
     } else if (arg.rfind("--large-cpu-runs", 0) == 0) {
       options.large_cpu_runs = std::max(1, std::atoi(value("--large-cpu-runs").c_str()));
+    } else if (arg.rfind("--write-refined", 0) == 0) {
+      options.refined_dir = value("--write-refined");
+      if (options.refined_dir.empty()) throw std::runtime_error("--write-refined needs a directory");
     } else if (arg == "--no-large") {
       options.large = false;
     } else if (arg == "--no-cpu") {
@@ -248,7 +256,7 @@ Options parse(int argc, char** argv) {
     } else if (arg == "-h" || arg == "--help") {
       std::printf(
           "usage: snag-bench-gpu [--json FILE] [--runs N (20)] [--large-runs N (5)] [--large-cpu-runs N (1)] "
-          "[--no-large] [--no-cpu]\n"
+          "[--no-large] [--no-cpu] [--write-refined DIR]\n"
           "environment: SNAG_SHARED_DATA_DIR (reference data), SNAG_SAMPLES_DIR (sample caches)\n");
       std::exit(0);
     } else {
@@ -264,8 +272,24 @@ Options parse(int argc, char** argv) {
   return options;
 }
 
+// Writes cloth_ball_x4_t{0,1}.ply and cloth_ball_x16_t{0,1}.ply (Loop
+// subdivision once and twice, the whole step) into dir.
+int write_refined(const std::string& data_dir, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  const ClothStep cloth = read_cloth_ball(data_dir);
+  for (int levels : {1, 2}) {
+    const ClothStep refined = refine(cloth, levels, 1.0);
+    const std::string stem = dir + "/cloth_ball_x" + std::to_string(1 << (2 * levels));
+    bench::write_binary_ply(stem + "_t0.ply", refined.x_t0, refined.scene.triangles());
+    bench::write_binary_ply(stem + "_t1.ply", refined.x_t1, refined.scene.triangles());
+    std::printf("%s_t{0,1}.ply: %zu triangles\n", stem.c_str(), refined.scene.triangle_count());
+  }
+  return 0;
+}
+
 int run(int argc, char** argv) {
   const Options options = parse(argc, argv);
+  if (!options.refined_dir.empty()) return write_refined(options.data_dir, options.refined_dir);
   const CudaDeviceInfo device = query_cuda_device();
   if (!device.available) {
     std::fprintf(stderr, "snag-bench-gpu: no usable CUDA device: %s\n", device.why_not.c_str());

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <future>
 
+#include "libcd/pipeline/event_builder.hpp"
+
 namespace snag {
 
 namespace {
@@ -103,7 +105,7 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
     totals.sink_seconds += sinking.get();  // rethrows what the sink threw
     totals.sink_wait_seconds += seconds_since(wait_start);
   };
-  std::vector<Event> found;
+  std::vector<Event> static_events;  // a frame's intersections, before they join its list
   ScannedFrame pending;
   try {
     if (frame_count > 0) {
@@ -125,31 +127,31 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       done.position = f;
       done.time = source.frame_time(f);
       done.summary.frame = source.frame_index(f);
+      // Collisions go straight into the frame's list and the intersections
+      // (found first) after them: event_order puts collisions first and each
+      // back end returns its list in event_order, so the frame's list is in
+      // order without a sort (sort_events_from checks that in one pass).
       std::vector<Event>& frame_events = events[f % 2];
       frame_events.clear();
+      static_events.clear();
       if (settings.intersections) {
-        found.clear();
-        backend.intersections(current, found);
+        backend.intersections(current, static_events);
         totals.stats.add(backend.stats());
-        for (Event& event : found) event.frame = done.summary.frame;
-        done.summary.intersections = found.size();
-        frame_events.insert(frame_events.end(), found.begin(), found.end());
+        done.summary.intersections = static_events.size();
       }
       if (settings.collisions && has_next) {
-        found.clear();
-        backend.collisions(current, next, found);
+        backend.collisions(current, next, frame_events);
         totals.stats.add(backend.stats());
-        for (Event& event : found) {
-          event.frame = done.summary.frame;
-          ++done.summary.collisions;
+        for (const Event& event : frame_events) {
           done.summary.vertex_face += event.type == ContactType::kVertexFace;
           done.summary.edge_edge += event.type == ContactType::kEdgeEdge;
           done.summary.uncertain += event.certainty == Certainty::kUncertain;
         }
-        frame_events.insert(frame_events.end(), found.begin(), found.end());
+        done.summary.collisions = frame_events.size();
       }
-      // Both lists are in event_order; collisions come first in it.
-      std::stable_sort(frame_events.begin(), frame_events.end(), event_order);
+      frame_events.insert(frame_events.end(), static_events.begin(), static_events.end());
+      for (Event& event : frame_events) event.frame = done.summary.frame;
+      sort_events_from(frame_events, 0);
       done.events = &frame_events;
       done.x = &current;
       done.x_next = has_next ? &next : nullptr;

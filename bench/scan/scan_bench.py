@@ -1,0 +1,292 @@
+#!/usr/bin/env python3
+"""What the user waits for: snag-scan over a long sequence, per scene, per
+stage and in total, with the back end's own share beside it and memory.
+
+Each scene runs as a short (2-frame) and a long (--frames, 12 by default)
+selection of the same step repeated (t0 t1 t0 t1 ...); the time per step is
+(long total - short total) / (long frames - 2), which leaves out what happens
+once (reading the topology, binding the back end, starting the device). The
+same difference is taken for every stage the report's trailer times
+(timing.*): reading, the broad phases, the CCD narrow phase (hits, the host's
+search of the undecided ones, events), certification, static detection, and
+the time the scan waited for the report ("report" is the report's own time,
+on a thread of its own beside the scan); "other" is the rest of the total
+(reading and the report, on threads of their own, are not taken from it)
+(per-step host work in the scan loop, ordering the frame's events, uploads the
+scan waited for). "back end" is the sum of the back end's stages: what a
+benchmark of the back end alone measures, from the same run.
+
+Memory: the host's peak resident size (wait4) of the long run, the broad
+phase's own peak (stages.*.peak_memory_bytes), and on a GPU the largest device
+memory in use during the long run (nvidia-smi sampled every 20 ms, less what
+was in use before it started).
+
+Scenes (those whose files are missing are skipped, with a note):
+  cloth_ball      cloth_ball92 -> 93 of the shared meshes (92,230 triangles)
+  sample          samples/cloth_ball (its manifest: cloth and ball, rules), from frame 20
+  cloth_ball_x4   cloth_ball Loop-subdivided once (368,920 triangles), the whole step
+  cloth_ball_x16  twice (1,475,680 triangles), the whole step; written by
+                  snag-bench-gpu --write-refined (needs CUDA) into --work
+  sheet_floor     bench/report/make_long_cache.py: a 100 x 100 sheet falling on a floor
+
+--check-cpu also scans each scene's short selection with --backend cpu and
+compares every event line of the two reports (--max-events 0): the GPU must
+report the same events, bit for bit.
+
+Times are of one machine and one call: compare figures of the same call;
+each figure is the median of --runs runs.
+
+    scan_bench.py [--build DIR | --scan EXE [--bench-gpu EXE]] [--backend cuda|cpu]
+                  [--scenes a,b,...] [--frames N] [--runs N] [--modes ccd,all]
+                  [--check-cpu] [--work DIR] [--json FILE]
+"""
+import argparse
+import hashlib
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+BACKEND_STAGES = ["ccd_broad", "ccd_narrow", "certification", "static_broad", "static_narrow"]
+STAGES = ["read"] + BACKEND_STAGES + ["report_wait"]
+
+
+class DeviceMemorySampler:
+    """Largest device memory in use (MiB) while it runs, from nvidia-smi."""
+
+    def __init__(self):
+        self.process = None
+        self.values = []
+        if shutil.which("nvidia-smi") is None:
+            return
+        self.baseline = self._used_now()
+        self.process = subprocess.Popen(["nvidia-smi", "--query-gpu=memory.used", "--format=csv,noheader,nounits",
+                                         "-lms", "20"], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        self.reader = threading.Thread(target=self._read)
+        self.reader.start()
+
+    @staticmethod
+    def _used_now():
+        out = subprocess.run(["nvidia-smi", "--query-gpu=memory.used", "--format=csv,noheader,nounits"],
+                             capture_output=True, text=True).stdout.split()
+        return float(out[0]) if out else 0.0
+
+    def _read(self):
+        for line in self.process.stdout:
+            try:
+                self.values.append(float(line.split()[0]))
+            except (ValueError, IndexError):
+                pass
+
+    def stop(self):
+        """Returns the peak above the baseline in MiB, or None without nvidia-smi."""
+        if self.process is None:
+            return None
+        self.process.terminate()
+        self.process.wait()
+        self.reader.join()
+        return max(0.0, max(self.values, default=self.baseline) - self.baseline)
+
+
+def run_scan(command, sample_device=False):
+    """Runs snag-scan; returns (peak host RSS MiB, peak device MiB or None)."""
+    sampler = DeviceMemorySampler() if sample_device else None
+    with tempfile.TemporaryFile(mode="w+") as err:
+        process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=err)
+        _, status, usage = os.wait4(process.pid, 0)
+        code = os.waitstatus_to_exitcode(status)
+        device = sampler.stop() if sampler else None
+        if code not in (0, 1):  # 1: the scan found what fails it, which is not an error here
+            err.seek(0)
+            sys.exit(f"scan_bench: {' '.join(command)} failed ({code}): {err.read().strip()}")
+    return usage.ru_maxrss / 1024, device
+
+
+def trailer(path):
+    with open(path, "rb") as report:
+        report.seek(max(0, os.path.getsize(path) - (1 << 20)))
+        return json.loads(report.read().splitlines()[-1])
+
+
+def stage_seconds(t):
+    """The trailer's stage times, flattened to STAGES, plus total."""
+    timing = t["timing"]
+    return {"read": timing["read"], "ccd_broad": timing["ccd_broad_phase"]["total"],
+            "ccd_narrow": timing["ccd_narrow_phase"], "certification": timing["certification"],
+            "static_broad": timing["static_broad_phase"]["total"], "static_narrow": timing["static_narrow_phase"],
+            "report_wait": timing["report_wait"], "report": timing["report"], "total": timing["total"]}
+
+
+def broad_peak_mib(t):
+    stages = t.get("stages", {})
+    return max(stages.get(k, {}).get("peak_memory_bytes", 0) for k in ("ccd_broad_phase", "static_broad_phase")) / 2**20
+
+
+def event_digest(path):
+    """(event lines, SHA-256 of them in report order): the events a report lists."""
+    digest = hashlib.sha256()
+    count = 0
+    with open(path, "rb") as report:
+        for line in report:
+            if line.startswith(b'{"record":"event"'):
+                digest.update(line)
+                count += 1
+    return count, digest.hexdigest()
+
+
+class Scene:
+    def __init__(self, name, triangles, inputs, frame_count=None):
+        """inputs(frames) -> snag-scan arguments selecting `frames` frames; frame_count: the cache's, if fixed."""
+        self.name, self.triangles, self.inputs, self.frame_count = name, triangles, inputs, frame_count
+
+
+def alternating(t0, t1):
+    return lambda frames: ["--sequence", *[(t0, t1)[k % 2] for k in range(frames)]]
+
+
+def make_scenes(args, work):
+    scenes = {}
+    meshes = args.meshes
+    m92, m93 = os.path.join(meshes, "cloth_ball92.ply"), os.path.join(meshes, "cloth_ball93.ply")
+    if os.path.exists(m92) and os.path.exists(m93):
+        scenes["cloth_ball"] = Scene("cloth_ball", 92230, alternating(m92, m93))
+    manifest = os.path.join(args.samples, "cloth_ball", "scene.yaml")
+    if os.path.exists(manifest):
+        # From frame 20 on, where the cloth lies on the ball (the first frames have no contact).
+        scenes["sample"] = Scene("sample", None,
+                                 lambda frames: ["--manifest", manifest, "--frames", f"20:{20 + frames - 1}"], 20)
+    wanted = args.scenes.split(",")
+    if any(s.startswith("cloth_ball_x") for s in wanted) and args.bench_gpu and os.access(args.bench_gpu, os.X_OK):
+        refined = os.path.join(work, "refined")
+        if not os.path.exists(os.path.join(refined, "cloth_ball_x16_t1.ply")):
+            subprocess.run([args.bench_gpu, "--write-refined", refined], check=True, stdout=subprocess.DEVNULL)
+        for factor, triangles in ((4, 368920), (16, 1475680)):
+            stem = os.path.join(refined, f"cloth_ball_x{factor}")
+            scenes[f"cloth_ball_x{factor}"] = Scene(f"cloth_ball_x{factor}", triangles,
+                                                    alternating(stem + "_t0.ply", stem + "_t1.ply"))
+    if "sheet_floor" in wanted:
+        long_dir = os.path.join(work, "sheet_floor")
+        if not os.path.exists(os.path.join(long_dir, "floor.obj")):
+            subprocess.run([sys.executable, os.path.join(ROOT, "bench", "report", "make_long_cache.py"), long_dir,
+                            str(max(args.frames, 12))], check=True, stdout=subprocess.DEVNULL)
+        files = [os.path.join(long_dir, "sheet.pc2"), "-t", os.path.join(long_dir, "sheet.obj"),
+                 os.path.join(long_dir, "floor.pc2"), "-t", os.path.join(long_dir, "floor.obj")]
+        scenes["sheet_floor"] = Scene("sheet_floor", None, lambda frames: [*files, "--frames", f"0:{frames - 1}"])
+    return scenes
+
+
+def measure(args, scene, mode, work):
+    """Medians over --runs of the per-step times (ms) of one scene and mode, and memory."""
+    long_frames = args.frames if scene.frame_count is None else min(args.frames, scene.frame_count)
+    per_step = {k: [] for k in STAGES + ["report", "total"]}
+    host_peak, device_peak, broad_peak, events, stages = [], [], 0.0, 0, {}
+    for run in range(args.runs):
+        totals = {}
+        for frames in (2, long_frames):
+            path = os.path.join(work, f"{scene.name}_{mode}_{frames}.jsonl")
+            rss, device = run_scan([args.scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "-q", "-r", path],
+                                   sample_device=frames == long_frames and args.backend == "cuda")
+            t = trailer(path)
+            totals[frames] = stage_seconds(t)
+            if frames == long_frames:
+                host_peak.append(rss)
+                if device is not None:
+                    device_peak.append(device)
+                broad_peak = max(broad_peak, broad_peak_mib(t))
+                stages = t.get("stages", {})
+                events = t["summary"]["events"]
+        for k in per_step:
+            per_step[k].append(1e3 * (totals[long_frames][k] - totals[2][k]) / (long_frames - 2))
+    row = {k: statistics.median(v) for k, v in per_step.items()}
+    row["backend"] = sum(row[k] for k in BACKEND_STAGES)
+    # Reading runs on its own thread beside the rest: not part of the sum.
+    row["other"] = row["total"] - sum(row[k] for k in STAGES if k != "read")
+    row.update({"scene": scene.name, "mode": mode, "triangles": scene.triangles, "frames": long_frames,
+                "runs": args.runs, "events_long": events, "host_peak_mib": max(host_peak),
+                "device_peak_mib": max(device_peak) if device_peak else None, "broad_peak_mib": broad_peak,
+                "total_spread_ms": [min(per_step["total"]), max(per_step["total"])], "stages": stages})
+    return row
+
+
+def check_cpu(args, scene, work):
+    """Same events from both back ends on the scene's first step (and its two frames)."""
+    digests = {}
+    for backend in ("cpu", args.backend):
+        path = os.path.join(work, f"{scene.name}_check_{backend}.jsonl")
+        run_scan([args.scan, *scene.inputs(2), "-b", backend, "-m", "all", "--max-events", "0", "-q", "-r", path])
+        digests[backend] = event_digest(path)
+    same = digests["cpu"] == digests[args.backend]
+    return {"scene": scene.name, "events": digests["cpu"][0], "same": same,
+            "cpu": digests["cpu"][1][:16], args.backend: digests[args.backend][1][:16]}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--scan")
+    parser.add_argument("--bench-gpu")
+    parser.add_argument("--backend", default="cuda", choices=["cpu", "cuda"])
+    parser.add_argument("--scenes", default="cloth_ball,sample,cloth_ball_x4,cloth_ball_x16,sheet_floor")
+    parser.add_argument("--modes", default="ccd,all")
+    parser.add_argument("--frames", type=int, default=12)
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--check-cpu", action="store_true")
+    parser.add_argument("--meshes", default=os.path.join(ROOT, "..", "shared", "data", "meshes"))
+    parser.add_argument("--samples", default=os.path.join(ROOT, "samples"))
+    parser.add_argument("--work")
+    parser.add_argument("--json", help="also write the numbers here")
+    args = parser.parse_args()
+    if args.frames < 3 or args.runs < 1:
+        parser.error("--frames must be at least 3 and --runs at least 1")
+    args.scan = args.scan or os.path.join(args.build, "tools", "snag-scan")
+    args.bench_gpu = args.bench_gpu or os.path.join(args.build, "bench", "gpu", "snag-bench-gpu")
+    if not os.access(args.scan, os.X_OK):
+        parser.error(f"{args.scan}: no snag-scan there (give --build or --scan)")
+    work = args.work or tempfile.mkdtemp(prefix="snag-scan-bench-")
+    os.makedirs(work, exist_ok=True)
+    scenes = make_scenes(args, work)
+    results = {"backend": args.backend, "frames": args.frames, "runs": args.runs, "rows": [], "checks": []}
+
+    print(f"== per step through snag-scan --backend {args.backend}, ms (median of {args.runs}; "
+          f"(total of {args.frames} frames - total of 2) / {args.frames - 2})")
+    header = (f"{'scene':<15} {'mode':<4} {'total':>8} {'backend':>8} {'read':>6} {'ccd bp':>7} {'ccd np':>7} "
+              f"{'certif':>7} {'st bp':>7} {'st np':>7} {'report':>7} {'rep wait':>8} {'other':>7} {'dev MiB':>8} {'bp MiB':>7} "
+              f"{'host MiB':>8}")
+    print(header)
+    for name in args.scenes.split(","):
+        if name not in scenes:
+            print(f"{name:<15} (skipped: its files or snag-bench-gpu are missing)")
+            continue
+        for mode in args.modes.split(","):
+            row = measure(args, scenes[name], mode, work)
+            results["rows"].append(row)
+            device = "-" if row["device_peak_mib"] is None else f"{row['device_peak_mib']:.0f}"
+            print(f"{name:<15} {mode:<4} {row['total']:>8.2f} {row['backend']:>8.2f} {row['read']:>6.2f} "
+                  f"{row['ccd_broad']:>7.2f} {row['ccd_narrow']:>7.2f} {row['certification']:>7.2f} "
+                  f"{row['static_broad']:>7.2f} {row['static_narrow']:>7.2f} {row['report']:>7.2f} {row['report_wait']:>8.2f} "
+                  f"{row['other']:>7.2f} {device:>8} {row['broad_peak_mib']:>7.0f} {row['host_peak_mib']:>8.0f}",
+                  flush=True)
+    if args.check_cpu and args.backend != "cpu":
+        print(f"== same events as the CPU back end (first step, every event listed)")
+        for name in args.scenes.split(","):
+            if name in scenes and name != "cloth_ball_x16":  # the CPU back end takes minutes on it
+                check = check_cpu(args, scenes[name], work)
+                results["checks"].append(check)
+                print(f"{name:<15} {check['events']:>9} events  {'same' if check['same'] else 'DIFFERENT'}", flush=True)
+    if args.json:
+        with open(args.json, "w") as out:
+            json.dump(results, out, indent=1)
+    print(f"scan_bench: files in {work}")
+    if any(not c["same"] for c in results["checks"]):
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
