@@ -13,6 +13,7 @@ packages=(
   clang libclang-rt-14-dev
   mandoc man-db python3
   chromium libjs-chart.js libjs-three
+  libopenmpi-dev openmpi-bin
 )
 
 sudo=""

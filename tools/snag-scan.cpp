@@ -3,7 +3,10 @@
 // tracks, judges them by the rules, streams the report and prints a summary.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -15,11 +18,15 @@
 #include "report/report_sink.hpp"
 #include "report/summary.hpp"
 #include "snag/config.hpp"
+#include "tools/common/batch_scan.hpp"
 #include "tools/common/cli.hpp"
 #include "tools/common/replacing_file.hpp"
 #include "tools/common/rule_options.hpp"
 #include "tools/common/run_tool.hpp"
 #include "tools/common/scan_stats.hpp"
+#if SNAG_HAVE_MPI
+#include "tools/common/mpi_scan.hpp"
+#endif
 #if SNAG_HAVE_CGAL
 #include "validate/exact_certifier.hpp"
 #endif
@@ -27,6 +34,10 @@
 #include "libcd/cuda/cuda_backend.hpp"
 #include "libcd/cuda/device.hpp"
 #endif
+
+namespace snag::tools::mpi {
+class Run;  // tools/common/mpi_scan.hpp, in builds with MPI
+}
 
 namespace {
 
@@ -42,6 +53,8 @@ struct ScanOptions {
   bool json = false;
   bool quiet = false;
   std::string precision = "certified";
+  bool mpi = false;
+  std::string batch;  ///< --batch LIST
 };
 
 // auto: the CUDA back end when this build has it and a usable device is
@@ -102,6 +115,159 @@ snag::report::Header make_header(const snag::FrameSource& source, const snag::re
   return header;
 }
 
+// Scans one cache into one report. With `run` (under MPI), every rank
+// scans a range of the steps and rank 0 writes the report; `run` is null
+// for a single process.
+int scan(const snag::tools::CacheArguments& cache, const snag::tools::RuleArguments& rule_arguments,
+         const ScanOptions& options, std::optional<double> thickness_option, snag::tools::mpi::Run* run) {
+  if (options.json && options.report == "-") {
+    throw snag::UsageError("--json and --report - both write to standard output: give the report a file");
+  }
+  const snag::tools::ScanSetup setup = snag::tools::resolve_scan_setup(cache, rule_arguments, thickness_option);
+  auto source = snag::io::open_cache(setup.cache);
+  const snag::Scene& scene = source->scene();
+  check_object_names(scene);
+  const snag::report::RuleSet rules(scene, setup.rules, setup.thickness);
+  auto backend = choose_backend(options.backend);
+
+  snag::BackendSettings backend_settings;
+  backend_settings.lambda = options.lambda;
+  backend_settings.thickness = rules.max_thickness();
+  backend_settings.threads = options.threads;
+#if SNAG_HAVE_CGAL
+  std::unique_ptr<snag::Certifier> certifier;
+  if (options.precision == "certified") {
+    certifier = snag::validate::make_exact_certifier();
+    backend_settings.certifier = certifier.get();
+  }
+#else
+  if (options.precision == "certified") {
+    throw snag::UsageError("--precision certified needs exact arithmetic, which this build lacks "
+                           "(configure with -DSNAG_WITH_CGAL=ON); use --precision fast");
+  }
+#endif
+  backend->bind(scene, backend_settings);
+
+  // Pairs thinner than the run's thickness are decided again at their own.
+  snag::report::Redecide redecide;
+  if (rules.thickness_varies()) {
+    std::vector<double> object_thickness;
+    for (std::size_t o = 0; o < scene.objects().size(); ++o) object_thickness.push_back(rules.object_thickness(o));
+    redecide = [&scene, object_thickness, &backend_settings](const std::vector<snag::Vec3>& x_t0,
+                                                             const std::vector<snag::Vec3>& x_t1,
+                                                             std::vector<snag::Event>& events) {
+      snag::redecide_at_pair_thickness(scene, x_t0, x_t1, object_thickness, backend_settings.thickness,
+                                       backend_settings.ccd, backend_settings.certifier, events);
+    };
+  }
+
+  snag::ScanSettings scan;
+  scan.collisions = options.mode != "dcd";
+  scan.intersections = options.mode != "ccd";
+#if SNAG_HAVE_MPI
+  std::vector<snag::tools::StepRange> ranges;
+  if (run) {
+    ranges = snag::tools::split_steps(source->frame_count(), static_cast<std::size_t>(run->size()));
+    if (run->rank() != 0) {
+      run->scan_part(*source, ranges, *backend, scan, redecide);
+      return snag::tools::kExitClean;
+    }
+  }
+#endif
+  const bool show_progress = !options.quiet && isatty(STDERR_FILENO);
+  auto progress = [&](std::size_t done, std::size_t total) {
+    if (show_progress) std::fprintf(stderr, "\rsnag-scan: frame %zu of %zu", done, total);
+    if (show_progress && done == total) std::fprintf(stderr, "\n");
+  };
+  // Made before the scan, so that a report that cannot be written fails
+  // at once; an earlier report stays untouched until this one is complete.
+  std::optional<snag::tools::ReplacingFile> report_file;
+  std::unique_ptr<snag::report::ReportWriter> writer;
+  if (options.report == "-") {
+    writer = std::make_unique<snag::report::ReportWriter>(std::cout);
+  } else if (!options.report.empty()) {
+    report_file.emplace(options.report);
+    writer = std::make_unique<snag::report::ReportWriter>(report_file->stream());
+  }
+  const snag::report::Header header = make_header(*source, rules, setup, options, backend->name());
+  snag::report::ReportSink sink(scene, header, rules, writer.get(), redecide);
+  std::string stages, timing;
+  double seconds = 0;
+  if (!run) {
+    const snag::ScanTotals totals = snag::scan_cache(*source, *backend, scan, sink, progress);
+    stages = snag::tools::stages_json(totals);
+    timing = snag::tools::timing_json(totals);
+    seconds = totals.total_seconds;
+  }
+#if SNAG_HAVE_MPI
+  else {
+    const auto merged = run->scan_and_merge(*source, ranges, *backend, scan, sink, progress);
+    stages = merged.stages_json;
+    timing = merged.timing_json;
+    seconds = merged.total_seconds;
+  }
+#endif
+  const snag::report::Trailer& trailer = sink.finish(stages, timing);
+  if (report_file) report_file->commit();
+
+  if (options.json) {
+    snag::report::ReportWriter json(std::cout);
+    json.use_names_of(header);
+    json.write_trailer(trailer);
+  } else if (!options.quiet) {
+    std::FILE* out = options.report == "-" ? stderr : stdout;
+    std::fprintf(out, "snag-scan: %s on %s, %.3f s\n", source->description().c_str(), backend->name().c_str(),
+                 seconds);
+    snag::report::print_summary(out, header, trailer);
+    if (!options.report.empty() && options.report != "-") std::fprintf(out, "report: %s\n", options.report.c_str());
+  }
+  return trailer.pass ? snag::tools::kExitClean : snag::tools::kExitFound;
+}
+
+// Scans every scene of the batch list this rank is given, each into its
+// report; rank 0 then waits for the others (`wait_for_others` returns the
+// largest of their exit codes) and writes the batch summary.
+int scan_batch(const snag::tools::CacheArguments& cache, const snag::tools::RuleArguments& rule_arguments,
+               const ScanOptions& options, std::optional<double> thickness_option, int rank, int ranks,
+               const std::function<int()>& wait_for_others) {
+  if (options.report.empty() || options.report == "-") {
+    throw snag::UsageError("--batch: give --report DIR, the directory for the scenes' reports");
+  }
+  if (!cache.inputs.empty() || !rule_arguments.manifest.empty() || options.json) {
+    throw snag::UsageError("--batch: the list names the scenes: no inputs, --manifest or --json beside it");
+  }
+  std::error_code error;
+  std::filesystem::create_directories(options.report, error);
+  if (error) throw snag::UsageError(options.report + ": cannot make the report directory: " + error.message());
+  const std::vector<snag::tools::BatchScene> scenes = snag::tools::read_batch_list(options.batch, options.report);
+  std::vector<snag::tools::CacheArguments> caches(scenes.size(), cache);
+  std::vector<snag::tools::RuleArguments> rules(scenes.size(), rule_arguments);
+  std::vector<std::size_t> sizes;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    if (scenes[i].manifest) {
+      rules[i].manifest = scenes[i].input;
+    } else {
+      caches[i].inputs = {scenes[i].input};
+    }
+    const snag::tools::ScanSetup setup = snag::tools::resolve_scan_setup(caches[i], rules[i], thickness_option);
+    std::vector<std::string> files;
+    for (const snag::io::InputSpec& input : setup.cache.inputs) files.insert(files.end(), {input.path, input.topology});
+    sizes.push_back(snag::tools::input_bytes(files));
+  }
+  const auto assigned = snag::tools::assign_by_size(sizes, static_cast<std::size_t>(ranks));
+  int code = snag::tools::kExitClean;
+  for (std::size_t i : assigned[rank]) {
+    ScanOptions one = options;
+    one.report = scenes[i].report;
+    one.quiet = true;
+    code = std::max(code, scan(caches[i], rules[i], one, thickness_option, nullptr));
+  }
+  if (rank != 0) return code;
+  code = std::max(code, wait_for_others());
+  snag::tools::write_batch_summary(scenes, options.report, options.quiet);
+  return code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -134,88 +300,39 @@ int main(int argc, char** argv) {
                  "certified (uncertain answers decided exactly) or fast (uncertain answers reported as such)")
       ->check(CLI::IsMember({"certified", "fast"}));
   app.add_flag("-q,--quiet", options.quiet, "No summary or progress");
+  app.add_flag("--mpi", options.mpi,
+               "Scan over the ranks of an MPI run (implied under mpirun): each rank scans a range of steps,\n"
+               "rank 0 writes the one report");
+  app.add_option("--batch", options.batch,
+                 "Scan every scene of LIST (a manifest or cache input a line), each into DIR/NAME.jsonl\n"
+                 "(--report DIR), and list the reports in DIR/batch.txt; under mpirun spread over the ranks")
+      ->type_name("LIST");
   if (int code = snag::tools::parse_command_line(app, argc, argv); code >= 0) return code;
 
-  return snag::tools::run_tool("snag-scan", [&] {
-    if (options.json && options.report == "-") {
-      throw snag::UsageError("--json and --report - both write to standard output: give the report a file");
-    }
-    std::optional<double> thickness_option;
-    if (app.count("--thickness") > 0) thickness_option = options.thickness;
-    const snag::tools::ScanSetup setup = snag::tools::resolve_scan_setup(cache, rule_arguments, thickness_option);
-    auto source = snag::io::open_cache(setup.cache);
-    const snag::Scene& scene = source->scene();
-    check_object_names(scene);
-    const snag::report::RuleSet rules(scene, setup.rules, setup.thickness);
-    auto backend = choose_backend(options.backend);
-
-    snag::BackendSettings backend_settings;
-    backend_settings.lambda = options.lambda;
-    backend_settings.thickness = rules.max_thickness();
-    backend_settings.threads = options.threads;
-#if SNAG_HAVE_CGAL
-    std::unique_ptr<snag::Certifier> certifier;
-    if (options.precision == "certified") {
-      certifier = snag::validate::make_exact_certifier();
-      backend_settings.certifier = certifier.get();
-    }
+  // Under mpirun every rank runs this (tools/common/mpi_scan.hpp): a scan
+  // splits its steps over the ranks, a batch its scenes.
+  std::optional<double> thickness_option;
+  if (app.count("--thickness") > 0) thickness_option = options.thickness;
+#if SNAG_HAVE_MPI
+  std::optional<snag::tools::mpi::Run> mpi;
+  if (options.mpi || snag::tools::mpi::launched_by_mpirun()) mpi.emplace(&argc, &argv);
+  if (mpi) {
+    // A scan's parts go beside its report; a batch has none.
+    const std::string parts_near = !options.batch.empty() ? "" : options.report.empty() ? "." : options.report;
+    return mpi->run("snag-scan", parts_near, [&] {
+      if (options.batch.empty()) return scan(cache, rule_arguments, options, thickness_option, &*mpi);
+      return scan_batch(cache, rule_arguments, options, thickness_option, mpi->rank(), mpi->size(),
+                        [&] { return mpi->wait_for_everyone(); });
+    });
+  }
 #else
-    if (options.precision == "certified") {
-      throw snag::UsageError("--precision certified needs exact arithmetic, which this build lacks "
-                             "(configure with -DSNAG_WITH_CGAL=ON); use --precision fast");
-    }
+  if (options.mpi) {
+    std::fprintf(stderr, "snag-scan: error: --mpi: this build has no MPI: configure with -DSNAG_WITH_MPI=ON\n");
+    return snag::tools::kExitBadInput;
+  }
 #endif
-    backend->bind(scene, backend_settings);
-
-    // Pairs thinner than the run's thickness are decided again at their own.
-    snag::report::Redecide redecide;
-    if (rules.thickness_varies()) {
-      std::vector<double> object_thickness;
-      for (std::size_t o = 0; o < scene.objects().size(); ++o) object_thickness.push_back(rules.object_thickness(o));
-      redecide = [&scene, object_thickness, &backend_settings](const std::vector<snag::Vec3>& x_t0,
-                                                               const std::vector<snag::Vec3>& x_t1,
-                                                               std::vector<snag::Event>& events) {
-        snag::redecide_at_pair_thickness(scene, x_t0, x_t1, object_thickness, backend_settings.thickness,
-                                         backend_settings.ccd, backend_settings.certifier, events);
-      };
-    }
-
-    snag::ScanSettings scan;
-    scan.collisions = options.mode != "dcd";
-    scan.intersections = options.mode != "ccd";
-    const bool show_progress = !options.quiet && isatty(STDERR_FILENO);
-    auto progress = [&](std::size_t done, std::size_t total) {
-      if (show_progress) std::fprintf(stderr, "\rsnag-scan: frame %zu of %zu", done, total);
-      if (show_progress && done == total) std::fprintf(stderr, "\n");
-    };
-    // Made before the scan, so that a report that cannot be written fails
-    // at once; an earlier report stays untouched until this one is complete.
-    std::optional<snag::tools::ReplacingFile> report_file;
-    std::unique_ptr<snag::report::ReportWriter> writer;
-    if (options.report == "-") {
-      writer = std::make_unique<snag::report::ReportWriter>(std::cout);
-    } else if (!options.report.empty()) {
-      report_file.emplace(options.report);
-      writer = std::make_unique<snag::report::ReportWriter>(report_file->stream());
-    }
-    const snag::report::Header header = make_header(*source, rules, setup, options, backend->name());
-    snag::report::ReportSink sink(scene, header, rules, writer.get(), redecide);
-    const snag::ScanTotals totals = snag::scan_cache(*source, *backend, scan, sink, progress);
-    const snag::report::Trailer& trailer =
-        sink.finish(snag::tools::stages_json(totals), snag::tools::timing_json(totals));
-    if (report_file) report_file->commit();
-
-    if (options.json) {
-      snag::report::ReportWriter json(std::cout);
-      json.use_names_of(header);
-      json.write_trailer(trailer);
-    } else if (!options.quiet) {
-      std::FILE* out = options.report == "-" ? stderr : stdout;
-      std::fprintf(out, "snag-scan: %s on %s, %.3f s\n", source->description().c_str(), backend->name().c_str(),
-                   totals.total_seconds);
-      snag::report::print_summary(out, header, trailer);
-      if (!options.report.empty() && options.report != "-") std::fprintf(out, "report: %s\n", options.report.c_str());
-    }
-    return trailer.pass ? snag::tools::kExitClean : snag::tools::kExitFound;
+  return snag::tools::run_tool("snag-scan", [&] {
+    if (options.batch.empty()) return scan(cache, rule_arguments, options, thickness_option, nullptr);
+    return scan_batch(cache, rule_arguments, options, thickness_option, 0, 1, [] { return snag::tools::kExitClean; });
   });
 }

@@ -1,0 +1,227 @@
+// A scan split into ranges and joined again (what snag-scan does over MPI,
+// without MPI): the ranges cover every step once, and the first range
+// scanned straight into the report's sink with the others replayed from
+// their parts gives the report one scan gives, byte for byte but for the
+// times. The oracle is the single scan itself.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "libcd/core/error.hpp"
+#include "libcd/pipeline/pair_thickness.hpp"
+#include "report/report_sink.hpp"
+#include "report/scan_part.hpp"
+#include "tools/common/range_scan.hpp"
+#include "tools/common/rule_options.hpp"
+#include "tools/common/scan_stats.hpp"
+#include "tools/common/stages_merge.hpp"
+
+namespace snag::tools {
+namespace {
+
+const std::string kSample = std::string(SNAG_SOURCE_DIR) + "/samples/cloth_ball";
+
+TEST(SplitSteps, CoversEveryStepOnceInNearlyEqualRanges) {
+  for (std::size_t frames = 0; frames <= 30; ++frames) {
+    for (std::size_t parts = 1; parts <= 6; ++parts) {
+      const std::vector<StepRange> ranges = split_steps(frames, parts);
+      ASSERT_EQ(ranges.size(), parts);
+      std::size_t next_step = 0, used = 0, fewest = frames, most = 0;
+      for (std::size_t r = 0; r < parts; ++r) {
+        if (ranges[r].empty) continue;
+        ++used;
+        ASSERT_EQ(used, r + 1) << "empty ranges come last";
+        EXPECT_EQ(ranges[r].first, next_step);
+        next_step = ranges[r].last;
+        fewest = std::min(fewest, ranges[r].last - ranges[r].first);
+        most = std::max(most, ranges[r].last - ranges[r].first);
+        // Every range but the last hands its last frame to the next one.
+        EXPECT_EQ(ranges[r].overlap, r + 1 < parts && !ranges[r + 1].empty);
+      }
+      if (frames == 0) {
+        EXPECT_EQ(used, 0u);
+        continue;
+      }
+      EXPECT_EQ(next_step, frames - 1) << frames << " frames, " << parts << " parts";
+      EXPECT_EQ(used, std::max<std::size_t>(1, std::min(parts, frames - 1)));
+      if (frames > 1) EXPECT_LE(most - fewest, 1u);
+    }
+  }
+}
+
+struct Scanned {
+  std::string report;
+  std::string stages_json;
+};
+
+// The sample's frames 18 to 28 under its manifest (an allow rule, fail
+// rules), with a cap of events that falls inside a later range, and the
+// cloth thinner than the run so that collisions are re-decided.
+class SplitScan : public ::testing::Test {
+ protected:
+  void SetUp() override { open("18:28"); }
+
+  void open(const std::string& frames) {
+    CacheArguments cache;
+    cache.frames = frames;
+    RuleArguments rules;
+    rules.manifest = kSample + "/scene.yaml";
+    rules.object_thickness = {"cloth=0.0005"};
+    setup_ = resolve_scan_setup(cache, rules, 0.001);
+    source_ = io::open_cache(setup_.cache);
+    rules_ = std::make_unique<report::RuleSet>(source_->scene(), setup_.rules, setup_.thickness);
+    backend_ = make_cpu_backend();
+    BackendSettings settings;
+    settings.thickness = rules_->max_thickness();
+    backend_->bind(source_->scene(), settings);
+    header_.settings.max_events = 1500;
+    header_.rules = rules_->rules();
+    const Scene& scene = source_->scene();
+    std::vector<double> thickness;
+    for (std::size_t o = 0; o < scene.objects().size(); ++o) thickness.push_back(rules_->object_thickness(o));
+    ASSERT_TRUE(rules_->thickness_varies());
+    redecide_ = [this, &scene, thickness, settings](const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                                   std::vector<Event>& events) {
+      redecided_ += redecide_at_pair_thickness(scene, x_t0, x_t1, thickness, settings.thickness, settings.ccd,
+                                               nullptr, events).redecided;
+    };
+  }
+
+  Scanned scan_whole() {
+    std::ostringstream out;
+    report::ReportWriter writer(out);
+    report::ReportSink sink(source_->scene(), header_, *rules_, &writer, redecide_);
+    const ScanTotals totals = scan_cache(*source_, *backend_, ScanSettings{}, sink);
+    sink.finish(stages_json(totals), "{}");
+    return {out.str(), stages_json(totals)};
+  }
+
+  Scanned scan_split(std::size_t parts, const std::string& dir) {
+    const std::vector<StepRange> ranges = split_steps(source_->frame_count(), parts);
+    std::ostringstream out;
+    report::ReportWriter writer(out);
+    report::ReportSink sink(source_->scene(), header_, *rules_, &writer, redecide_);
+    // Scanned in reverse, as ranks finish in any order.
+    std::vector<std::string> stages;
+    for (std::size_t r = parts; r-- > 1;) {
+      report::PartWriter part(dir + "/part-" + std::to_string(r), redecide_);
+      const ScanTotals totals = scan_range(*source_, ranges[r], *backend_, ScanSettings{}, part);
+      part.finish({totals.frames, stages_json(totals), "{}"});
+    }
+    const ScanTotals first = scan_range(*source_, ranges[0], *backend_, ScanSettings{}, sink);
+    stages.push_back(stages_json(first));
+    for (std::size_t r = 1; r < parts; ++r) {
+      const std::string part_stages = report::replay_part(dir + "/part-" + std::to_string(r), *source_, sink).stages_json;
+      // As snag-scan does: a range with nothing to scan says nothing of the stages.
+      if (!ranges[r].empty) stages.push_back(part_stages);
+    }
+    const std::string merged = merge_stages_json(stages);
+    sink.finish(merged, "{}");
+    return {out.str(), merged};
+  }
+
+  ScanSetup setup_;
+  std::unique_ptr<FrameSource> source_;
+  std::unique_ptr<report::RuleSet> rules_;
+  std::unique_ptr<Backend> backend_;
+  report::Header header_;
+  report::Redecide redecide_;
+  std::size_t redecided_ = 0;
+};
+
+std::string temporary_dir() {
+  std::string dir = ::testing::TempDir() + "range_scan_XXXXXX";
+  if (!mkdtemp(dir.data())) throw std::runtime_error("mkdtemp");
+  return dir;
+}
+
+TEST_F(SplitScan, ThreeRangesGiveTheSingleScanReport) {
+  const Scanned whole = scan_whole();
+  const std::string dir = temporary_dir();
+  const Scanned split = scan_split(3, dir);
+  EXPECT_GT(redecided_, 0u);
+  // The report's own check that the cap was crossed and that tracks crossed the ranges' boundaries.
+  const auto trailer = nlohmann::json::parse(whole.report.substr(whole.report.rfind("{\"record\":\"trailer\"")));
+  ASSERT_GT(trailer["summary"]["left_out"].get<std::size_t>(), 0u);
+  const std::vector<StepRange> ranges = split_steps(source_->frame_count(), 3);
+  bool crossing = false;
+  std::istringstream lines(whole.report);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("{\"record\":\"track\"", 0) != 0) continue;
+    const auto track = nlohmann::json::parse(line);
+    const std::size_t first = track["first_frame"], last = track["last_frame"];
+    for (std::size_t r = 1; r < ranges.size(); ++r) {
+      const std::size_t boundary = source_->frame_index(ranges[r].first);
+      crossing = crossing || (first < boundary && last >= boundary);
+    }
+  }
+  ASSERT_TRUE(crossing) << "no track crosses a range boundary: the test checks nothing there";
+  EXPECT_EQ(split.stages_json, whole.stages_json);
+  EXPECT_EQ(split.report, whole.report);
+}
+
+TEST_F(SplitScan, MoreRangesThanStepsGiveTheSingleScanReport) {
+  open("20:22");
+  const Scanned whole = scan_whole();
+  const std::string dir = temporary_dir();
+  const Scanned split = scan_split(4, dir);
+  EXPECT_EQ(split.stages_json, whole.stages_json);
+  EXPECT_EQ(split.report, whole.report);
+}
+
+TEST_F(SplitScan, TruncatedPartIsRejectedWithItsName) {
+  open("20:24");
+  const std::string dir = temporary_dir();
+  const std::string path = dir + "/part-1";
+  const StepRange range = split_steps(source_->frame_count(), 2)[1];
+  {
+    report::PartWriter part(path, redecide_);
+    const ScanTotals totals = scan_range(*source_, range, *backend_, ScanSettings{}, part);
+    part.finish({totals.frames, stages_json(totals), "{}"});
+  }
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes.substr(0, bytes.size() / 2);
+  std::ostringstream out;
+  report::ReportSink sink(source_->scene(), header_, *rules_, nullptr);
+  try {
+    report::replay_part(path, *source_, sink);
+    FAIL() << "a truncated part was replayed";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("truncated"), std::string::npos) << error.what();
+  }
+}
+
+TEST(MergeStages, AddsCountersKeepsTheLastGridAndTheLargestPeak) {
+  const std::string a =
+      R"({"ccd_broad_phase":{"cell_size":0.5,"grid":[1,2,3],"tests":10,"peak_memory_bytes":100,)"
+      R"("subdivision_levels":1,"subdivided_per_level":[4,1]},"narrow_phase":{"vf_tests":3,"ee_tests":1,)"
+      R"("exact_queries":1,"exact_fraction":0.25}})";
+  const std::string b =
+      R"({"ccd_broad_phase":{"cell_size":0.25,"grid":[4,5,6],"tests":5,"peak_memory_bytes":50,)"
+      R"("subdivision_levels":2,"subdivided_per_level":[1,1,7]},"narrow_phase":{"vf_tests":2,"ee_tests":2,)"
+      R"("exact_queries":2,"exact_fraction":0.5}})";
+  const auto merged = nlohmann::json::parse(merge_stages_json({a, b}));
+  const auto& broad = merged["ccd_broad_phase"];
+  EXPECT_EQ(broad["cell_size"], 0.25);
+  EXPECT_EQ(broad["grid"], nlohmann::json({4, 5, 6}));
+  EXPECT_EQ(broad["tests"], 15);
+  EXPECT_EQ(broad["peak_memory_bytes"], 100);
+  EXPECT_EQ(broad["subdivision_levels"], 2);
+  EXPECT_EQ(broad["subdivided_per_level"], nlohmann::json({5, 2, 7}));
+  EXPECT_EQ(merged["narrow_phase"]["exact_fraction"], 3.0 / 8.0);
+  EXPECT_EQ(merge_stages_json({a}), nlohmann::json::parse(a).dump());
+  const auto timing = nlohmann::json::parse(merge_timing_json({R"({"read":1.5,"total":9})", R"({"read":2,"total":9})"}, 4));
+  EXPECT_EQ(timing["read"], 3.5);
+  EXPECT_EQ(timing["total"], 4.0);
+}
+
+}  // namespace
+}  // namespace snag::tools

@@ -1,0 +1,278 @@
+#include "tools/common/mpi_scan.hpp"
+
+#include <mpi.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <new>
+
+#include "libcd/core/error.hpp"
+#include "snag/config.hpp"
+#include "tools/common/run_tool.hpp"
+#include "tools/common/scan_stats.hpp"
+#include "tools/common/stages_merge.hpp"
+#if SNAG_HAVE_CUDA
+#include <cuda_runtime_api.h>
+#endif
+
+namespace snag::tools::mpi {
+
+namespace {
+
+// A rank > 0 tells rank 0 once that it is done: how it ended, its exit code
+// and, when it failed, its message. Rank 0 tells each rank > 0 once that the
+// run ends (before it is done: stop).
+constexpr int kTagDone = 1;
+constexpr int kTagEnd = 2;
+enum Ending : int { kNotYet = -1, kFinished = 0, kFailed = 1, kStopped = 2 };
+
+// Rank 0 learnt that another rank failed.
+struct RankFailed {
+  int rank, code;
+  std::string message;
+};
+
+// A rank > 0 was told to stop.
+struct Stopped {};
+
+struct Failure {
+  int code;
+  std::string message;
+};
+
+// The exit code and line run_tool() would give for the exception in flight.
+Failure describe_current_exception() {
+  try {
+    throw;
+  } catch (const InputError& error) {
+    return {kExitBadInput, error.what()};
+  } catch (const UsageError& error) {
+    return {kExitBadInput, error.what()};
+  } catch (const std::bad_alloc&) {
+    return {kExitInternal, "internal error: out of memory"};
+  } catch (const std::exception& error) {
+    return {kExitInternal, std::string("internal error: ") + error.what()};
+  } catch (...) {
+    return {kExitInternal, "internal error: unknown exception"};
+  }
+}
+
+// Rank 0: a fresh directory beside `near` for the parts; "" and `error` set when it cannot be made.
+std::string make_parts_dir(const std::string& near, std::string& error) {
+  namespace fs = std::filesystem;
+  fs::path dir = near == "-" ? fs::path(".") : fs::path(near).parent_path();
+  if (dir.empty()) dir = ".";
+  std::string name = (dir / ".snag-scan-parts.XXXXXX").string();
+  if (!mkdtemp(name.data())) {
+    error = dir.string() + ": cannot make a directory for the ranks' parts: " + std::strerror(errno);
+    return "";
+  }
+  return fs::absolute(name).string();
+}
+
+void broadcast(std::string& text) {
+  unsigned long long size = text.size();
+  MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  text.resize(size);
+  MPI_Bcast(text.data(), static_cast<int>(size), MPI_CHAR, 0, MPI_COMM_WORLD);
+}
+
+// The GPU of this rank: its local rank among the host's devices. Before the
+// back end is chosen, which initialises CUDA on the current device.
+void use_local_device(int local_rank) {
+#if SNAG_HAVE_CUDA
+  int count = 0;
+  if (cudaGetDeviceCount(&count) == cudaSuccess && count > 0) cudaSetDevice(local_rank % count);
+#else
+  (void)local_rank;
+#endif
+}
+
+}  // namespace
+
+bool launched_by_mpirun() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
+    if (std::getenv(name)) return true;
+  }
+  return false;
+}
+
+Run::Run(int* argc, char*** argv) {
+  int provided = 0;
+  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  MPI_Comm host;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &host);
+  MPI_Comm_rank(host, &local_rank_);
+  MPI_Comm_free(&host);
+  use_local_device(local_rank_);
+}
+
+Run::~Run() { MPI_Finalize(); }
+
+std::string Run::part_path(int rank) const { return parts_dir_ + "/part-" + std::to_string(rank); }
+
+int Run::run(const char* tool, const std::string& parts_near, const std::function<int()>& body) {
+  if (!parts_near.empty()) {
+    std::string error;
+    if (rank_ == 0) parts_dir_ = make_parts_dir(parts_near, error);
+    broadcast(parts_dir_);
+    if (parts_dir_.empty()) {  // rank 0 could not make it
+      if (rank_ == 0) std::fprintf(stderr, "%s: error: rank 0: %s\n", tool, error.c_str());
+      return rank_ == 0 ? kExitBadInput : kExitClean;
+    }
+  }
+  if (rank_ != 0) {
+    int ending = kFinished;
+    Failure result{kExitClean, ""};
+    try {
+      result.code = body();
+    } catch (const Stopped&) {
+      ending = kStopped;
+    } catch (...) {
+      ending = kFailed;
+      result = describe_current_exception();
+    }
+    const int head[2] = {ending, result.code};
+    std::string message(sizeof head, '\0');
+    std::memcpy(message.data(), head, sizeof head);
+    message += result.message;
+    MPI_Send(message.data(), static_cast<int>(message.size()), MPI_CHAR, 0, kTagDone, MPI_COMM_WORLD);
+    if (!stop_received_) MPI_Recv(nullptr, 0, MPI_CHAR, 0, kTagEnd, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return kExitClean;
+  }
+
+  done_.assign(size_, kNotYet);
+  codes_.assign(size_, kExitClean);
+  done_[0] = kFinished;
+  int code = kExitClean, failed_rank = 0;
+  std::string failure;
+  try {
+    code = body();
+  } catch (const RankFailed& failed) {
+    failed_rank = failed.rank;
+    code = failed.code;
+    failure = failed.message;
+  } catch (...) {
+    const Failure own = describe_current_exception();
+    code = own.code;
+    failure = own.message;
+  }
+  stop_everyone();
+  std::error_code ignored;
+  if (!parts_dir_.empty()) std::filesystem::remove_all(parts_dir_, ignored);
+  if (!failure.empty()) std::fprintf(stderr, "%s: error: rank %d: %s\n", tool, failed_rank, failure.c_str());
+  return code;
+}
+
+void Run::receive_done() {
+  MPI_Status status;
+  MPI_Probe(MPI_ANY_SOURCE, kTagDone, MPI_COMM_WORLD, &status);
+  int size = 0;
+  MPI_Get_count(&status, MPI_CHAR, &size);
+  std::string message(static_cast<std::size_t>(size), '\0');
+  MPI_Recv(message.data(), size, MPI_CHAR, status.MPI_SOURCE, kTagDone, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  int head[2] = {kFailed, kExitInternal};
+  if (message.size() >= sizeof head) std::memcpy(head, message.data(), sizeof head);
+  const int rank = status.MPI_SOURCE;
+  done_[rank] = head[0];
+  codes_[rank] = head[1];
+  if (head[0] == kFailed) throw RankFailed{rank, head[1], message.substr(std::min(message.size(), sizeof head))};
+}
+
+int Run::wait_for_everyone() {
+  int code = kExitClean;
+  for (int r = 1; r < size_; ++r) {
+    wait_for(r);
+    code = std::max(code, codes_[r]);
+  }
+  return code;
+}
+
+void Run::poll_messages() {
+  if (rank_ == 0) {
+    int waiting = 1;
+    while (waiting) {
+      MPI_Iprobe(MPI_ANY_SOURCE, kTagDone, MPI_COMM_WORLD, &waiting, MPI_STATUS_IGNORE);
+      if (waiting) receive_done();
+    }
+    return;
+  }
+  int waiting = 0;
+  MPI_Iprobe(0, kTagEnd, MPI_COMM_WORLD, &waiting, MPI_STATUS_IGNORE);
+  if (!waiting) return;
+  MPI_Recv(nullptr, 0, MPI_CHAR, 0, kTagEnd, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  stop_received_ = true;
+  throw Stopped{};
+}
+
+void Run::wait_for(int rank) {
+  while (done_[rank] == kNotYet) receive_done();
+}
+
+void Run::stop_everyone() {
+  for (int r = 1; r < size_; ++r) MPI_Send(nullptr, 0, MPI_CHAR, r, kTagEnd, MPI_COMM_WORLD);
+  for (int r = 1; r < size_; ++r) {
+    while (done_[r] == kNotYet) {
+      try {
+        receive_done();
+      } catch (const RankFailed&) {
+        // The run already failed: the first failure is the one reported.
+      }
+    }
+  }
+}
+
+void Run::scan_part(const FrameSource& source, const std::vector<StepRange>& ranges, Backend& backend,
+                    const ScanSettings& settings, report::PartRedecide redecide) {
+  report::PartWriter part(part_path(rank_), std::move(redecide));
+  const ScanTotals totals =
+      scan_range(source, ranges[rank_], backend, settings, part, [this](std::size_t, std::size_t) { poll_messages(); });
+  poll_messages();
+  part.finish({totals.frames, stages_json(totals), timing_json(totals)});
+}
+
+Run::Totals Run::scan_and_merge(const FrameSource& source, const std::vector<StepRange>& ranges, Backend& backend,
+                                const ScanSettings& settings, ScanSink& sink, const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::size_t frame_count = source.frame_count();
+  const ScanTotals own = scan_range(source, ranges[0], backend, settings, sink, [&](std::size_t done, std::size_t) {
+    poll_messages();
+    if (progress) progress(done, frame_count);
+  });
+  std::vector<std::string> stages, timing;
+  if (!ranges[0].empty) {
+    stages.push_back(stages_json(own));
+    timing.push_back(timing_json(own));
+  }
+  for (int r = 1; r < size_; ++r) {
+    wait_for(r);
+    const report::PartTotals part = report::replay_part(part_path(r), source, sink, [&](std::size_t position) {
+      poll_messages();
+      if (progress) progress(position + 1, frame_count);
+    });
+    std::filesystem::remove(part_path(r));
+    if (ranges[r].empty) continue;
+    stages.push_back(part.stages_json);
+    timing.push_back(part.timing_json);
+  }
+  Totals totals;
+  totals.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (stages.empty()) {  // no frames at all: what a scan of nothing writes
+    const ScanTotals nothing;
+    stages.push_back(stages_json(nothing));
+    timing.push_back(timing_json(nothing));
+  }
+  totals.stages_json = merge_stages_json(stages);
+  totals.timing_json = merge_timing_json(timing, totals.total_seconds);
+  return totals;
+}
+
+}  // namespace snag::tools::mpi
