@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Measures snag-scan over MPI on the GPUs of one host, from a bundle made by
+# scripts/make-mpi-bundle.sh: writes a long cache of a large cloth
+# (mpi-make-cloth.py: FRAMES frames of an N x N sheet over a floor), scans it
+# with one process without MPI, then under mpirun at each rank count, and
+# prints wall time, speed-up and parallel efficiency against the one process,
+# and whether each report is the one process's (all but the process measures:
+# the trailer's timing and the stages' peak_memory_bytes).
+#
+# Usage:  mpi-scaling.sh WORKDIR FRAMES N RANKS... [-- snag-scan options]
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+work=$1 frames=$2 n=$3
+shift 3
+ranks=()
+while [ $# -gt 0 ] && [ "$1" != "--" ]; do ranks+=("$1"); shift; done
+[ "${1:-}" = "--" ] && shift
+calc() { python3 -c "print(round($1, 3))"; }
+mkdir -p "$work"
+cache=$work/cache
+start=$(date +%s.%N)
+python3 "$here/mpi-make-cloth.py" "$cache" "$frames" "$n" || exit 1
+echo "cache: $frames frames, sheet $n x $n ($((n * n)) vertices, $((2 * (n - 1) * (n - 1))) triangles) + floor;" \
+  "written in $(calc "$(date +%s.%N) - $start") s"
+inputs=("$cache/sheet.pc2" -t "$cache/sheet.obj" "$cache/floor.pc2" -t "$cache/floor.obj" -q "$@")
+
+seconds() {  # runs the command, prints its wall time; its exit status 0 or 1 is a finished scan
+  local t0 t1 status
+  t0=$(date +%s.%N)
+  "$@" >"$work/last.out" 2>&1
+  status=$?
+  t1=$(date +%s.%N)
+  if [ "$status" -gt 1 ]; then
+    echo "failed ($status): $*" >&2
+    cat "$work/last.out" >&2
+    return 1
+  fi
+  calc "$t1 - $t0"
+}
+same_report() {
+  python3 - "$1" "$2" <<'PY'
+import re, sys
+def measured_out(path):
+    text = open(path).read()
+    trailer = text.rindex('{"record":"trailer"')
+    timing = text.index(',"timing":', trailer)
+    return text[:trailer] + re.sub(r'"peak_memory_bytes":[0-9]+', '"peak_memory_bytes":N', text[trailer:timing])
+print("yes" if measured_out(sys.argv[1]) == measured_out(sys.argv[2]) else "NO")
+PY
+}
+
+one=$(seconds "$here/bin/snag-scan" "${inputs[@]}" -r "$work/one.jsonl") || exit 1
+python3 -c "import json; t=json.loads(open('$work/one.jsonl').readlines()[-1]); s=t['summary'];
+print('one process: %s s; %d events, %d regions, %d tracks; report %.2f s of it' % ('$one', s['events'], s['regions'], s['tracks'], t['timing']['report']))"
+printf '%-6s %10s %9s %11s %10s\n' ranks seconds speed-up efficiency identical
+for k in "${ranks[@]}"; do
+  t=$(seconds "$here/mpi-run.sh" -n "$k" --bind-to none "$here/bin/snag-scan" "${inputs[@]}" -r "$work/$k.jsonl") || exit 1
+  printf '%-6s %10.2f %9.2f %11.2f %10s\n' "$k" "$t" "$(calc "$one / $t")" "$(calc "$one / $t / $k")" "$(same_report "$work/one.jsonl" "$work/$k.jsonl")"
+done
