@@ -30,6 +30,7 @@ const char* method_name(BroadPhaseMethod m) {
   switch (m) {
     case BroadPhaseMethod::kVirtualSubdivisionGrid: return "vss-grid";
     case BroadPhaseMethod::kLargestTriangleGrid: return "largest-grid";
+    case BroadPhaseMethod::kBoxGrid: return "box-grid";
     case BroadPhaseMethod::kBruteForce: return "brute-force";
   }
   return "?";

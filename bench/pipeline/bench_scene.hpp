@@ -23,9 +23,11 @@ struct BenchScene {
 /// std::runtime_error when the two frames differ in topology.
 BenchScene load_mesh_pair(const std::string& name, const std::string& t0_path, const std::string& t1_path);
 
-/// The bundled sample (cloth and body point caches with their rest meshes in
-/// `sample_dir`) through io::open_cache: its first `steps` + 1 frames, or all
-/// of them when `steps` is 0. Throws InputError for bad files.
-BenchScene load_sample(const std::string& sample_dir, std::size_t steps);
+/// A cache laid out as the bundled sample (cloth.pc2, cloth_rest.obj,
+/// body.pc2, body_rest.obj in `sample_dir`; scripts/bake_cloth_cache.py writes
+/// the same) through io::open_cache, named `name`: `steps` + 1 frames from
+/// frame `first` (0-based), or all from `first` when `steps` is 0. Throws
+/// InputError for bad files.
+BenchScene load_sample(const std::string& name, const std::string& sample_dir, std::size_t first, std::size_t steps);
 
 }  // namespace snag::bench

@@ -12,6 +12,7 @@
 
 #include "bench/pipeline/cgal_self_intersections.hpp"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
+#include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
 #include "libcd/pipeline/backend.hpp"
 #include "validate/exact_ccd.hpp"
@@ -83,6 +84,45 @@ json broad_counts(const BroadPhaseStats& s) {
           {"ee_candidates", s.ee_after_culling},
           {"candidates", s.candidates},
           {"memory_bytes", s.memory_bytes}};
+}
+
+json stage_seconds(const BroadPhaseStats& s) {
+  return {{"bounds", s.seconds_bounds},         {"subdivision", s.seconds_subdivision},
+          {"registration", s.seconds_registration}, {"pairs", s.seconds_pairs},
+          {"features", s.seconds_features},     {"total", s.seconds_total}};
+}
+
+/// How the static triangle tests of every frame were decided, on the CPU
+/// back end's broad phase pairs: by the 2D exact-sign filter
+/// (triangles_separated_in_projection), or by triangles_intersect, and how
+/// often an orientation predicate of each needed its exact stage.
+json static_filter_counts(const BenchScene& bench) {
+  auto phase = make_broad_phase(BroadPhaseMethod::kBoxGrid);
+  phase->build(bench.scene, BroadPhaseSettings{});
+  const auto& triangles = bench.scene.triangles();
+  std::vector<TrianglePair> pairs;
+  std::size_t total = 0, decided = 0;
+  PredicateCounters filter, exact_test;
+  for (const std::vector<Vec3>& x : bench.frames) {
+    phase->detect_static(x, pairs);
+    total += pairs.size();
+    for (const TrianglePair& p : pairs) {
+      const Triangle& ta = triangles[p.a];
+      const Triangle& tb = triangles[p.b];
+      const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
+      const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
+      if (triangles_separated_in_projection(a, ta.data(), b, tb.data(), &filter))
+        ++decided;
+      else
+        triangles_intersect(a, ta.data(), b, tb.data(), &exact_test);
+    }
+  }
+  return {{"pairs", total},
+          {"decided_by_filter", decided},
+          {"filter_predicates", filter.calls},
+          {"filter_predicates_exact", filter.exact},
+          {"test_predicates", exact_test.calls},
+          {"test_predicates_exact", exact_test.exact}};
 }
 
 json narrow_counts(const NarrowPhaseStats& s) {
@@ -167,6 +207,7 @@ const char* method_name(BroadPhaseMethod method) {
     case BroadPhaseMethod::kVirtualSubdivisionGrid: return "vss-grid";
     case BroadPhaseMethod::kLargestTriangleGrid: return "largest-grid";
     case BroadPhaseMethod::kBruteForce: return "brute-force";
+    case BroadPhaseMethod::kBoxGrid: return "box-grid";
   }
   return "?";
 }
@@ -321,11 +362,14 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
   backend->bind(bench.scene, backend_settings(settings, nullptr));
   std::vector<std::vector<TrianglePair>> snag_pairs(bench.frames.size());
   std::vector<Event> events;
+  PipelineStats stages;  // of the last pass
   const std::function<double()> snag_pass = [&] {
     const auto start = Clock::now();
+    stages = PipelineStats{};
     for (std::size_t f = 0; f < bench.frames.size(); ++f) {
       events.clear();
       backend->intersections(bench.frames[f], events);
+      stages.add(backend->stats());
       snag_pairs[f].clear();
       for (const Event& e : events) snag_pairs[f].push_back({std::min(e.a, e.b), std::max(e.a, e.b)});
     }
@@ -367,7 +411,18 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
     for (const TrianglePair& p : theirs_only)
       if (differences.size() < 20) differences.push_back({{"frame", f}, {"a", p.a}, {"b", p.b}, {"only", "cgal"}});
   }
+  const NarrowPhaseStats& narrow = stages.narrow;
+  const double tests_seconds = narrow.seconds_static - narrow.seconds_static_events;
   return {{"frames", bench.frames.size()},
+          {"snag_stages",
+           {{"broad_phase_seconds", stages.static_broad.seconds_total},
+            {"broad_phase", stage_seconds(stages.static_broad)},
+            {"triangle_tests_seconds", tests_seconds},
+            {"events_seconds", narrow.seconds_static_events},
+            {"triangle_tests", narrow.triangle_tests},
+            {"predicate_calls", narrow.predicate_calls},
+            {"predicate_exact", narrow.predicate_exact},
+            {"filter", static_filter_counts(bench)}}},
           {"snag_passes", snag_passes.size()},
           {"cgal_passes", cgal_passes.size()},
           {"snag_seconds", snag_seconds},

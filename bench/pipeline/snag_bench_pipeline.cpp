@@ -67,7 +67,7 @@ json bench_scene(const BenchScene& bench, const MeasureSettings& settings, std::
               {"steps", bench.steps()},
               {"broad_phase", json::array()}};
   std::vector<BroadPhaseMethod> methods = {BroadPhaseMethod::kVirtualSubdivisionGrid,
-                                           BroadPhaseMethod::kLargestTriangleGrid};
+                                           BroadPhaseMethod::kLargestTriangleGrid, BroadPhaseMethod::kBoxGrid};
   if (bench.scene.triangle_count() < brute_force_limit) methods.push_back(BroadPhaseMethod::kBruteForce);
   std::size_t vss_ccd_candidates = 0;
   for (const bool ccd : {true, false}) {
@@ -185,6 +185,27 @@ void print_tables(const json& report) {
                 s["speedup"].get<double>(), s["snag_pairs"].get<std::size_t>(), s["cgal_pairs"].get<std::size_t>(),
                 s["cgal_degenerate_faces"].get<std::size_t>(), verdict.c_str());
   }
+
+  std::printf("\nsnag static detection by stage (last pass, all frames; filter: 2D exact-sign rejection before the test)\n");
+  std::printf("%-10s %8s %8s %8s %8s %8s | %10s %10s %7s %12s %9s %12s %9s\n", "scene", "broad_s", "bounds",
+              "grid", "pairs", "tests_s", "events_s", "pairs", "filter%", "filter_pred", "exact%", "test_pred",
+              "exact%");
+  for (const json& scene : report["scenes"]) {
+    const json& st = scene["static_vs_cgal"]["snag_stages"];
+    const json& b = st["broad_phase"];
+    const json& f = st["filter"];
+    auto percent = [](const json& part, const json& whole) {
+      return whole.get<double>() > 0 ? 100.0 * part.get<double>() / whole.get<double>() : 0.0;
+    };
+    std::printf("%-10s %8.4f %8.4f %8.4f %8.4f %8.4f | %10.4f %10zu %7.2f %12zu %9.4f %12zu %9.4f\n",
+                scene["name"].get<std::string>().c_str(), st["broad_phase_seconds"].get<double>(),
+                b["bounds"].get<double>(), b["registration"].get<double>(), b["pairs"].get<double>(),
+                st["triangle_tests_seconds"].get<double>(), st["events_seconds"].get<double>(),
+                f["pairs"].get<std::size_t>(), percent(f["decided_by_filter"], f["pairs"]),
+                f["filter_predicates"].get<std::size_t>(),
+                percent(f["filter_predicates_exact"], f["filter_predicates"]), f["test_predicates"].get<std::size_t>(),
+                percent(f["test_predicates_exact"], f["test_predicates"]));
+  }
 }
 
 }  // namespace
@@ -193,13 +214,18 @@ int main(int argc, char** argv) {
   CLI::App app{"Pipeline benchmark: speed and accuracy of the CPU pipeline, VSS grid vs baselines, static detection vs CGAL"};
   std::string data_dir = SNAG_SHARED_DATA_DIR, samples_dir = SNAG_SAMPLES_DIR, json_path;
   std::vector<std::vector<std::string>> extra_scenes;
-  std::size_t sample_steps = 0, brute_force_limit = 20000;
+  std::vector<std::string> caches;
+  std::size_t sample_steps = 0, first_frame = 0, brute_force_limit = 20000;
   bool no_cloth_ball = false, no_samples = false;
   MeasureSettings settings;
   app.add_option("--data", data_dir, "shared data directory (meshes/cloth_ball92.ply, cloth_ball93.ply)");
   app.add_option("--samples", samples_dir, "the sample cache directory (cloth.pc2, cloth_rest.obj, body.pc2, body_rest.obj)");
-  app.add_option("--sample-steps", sample_steps, "steps of the sample cache to use (0 = all)");
+  app.add_option("--sample-steps", sample_steps, "steps of the sample cache and of each --cache to use (0 = all)");
+  app.add_option("--first-frame", first_frame, "first frame (0-based) of the sample cache and of each --cache");
   app.add_option("--scene", extra_scenes, "another scene: two frames of one topology (t0 t1)")->expected(2);
+  app.add_option("--cache", caches,
+                 "another cache laid out as the sample (scripts/bake_cloth_cache.py writes one); repeatable")
+      ->check(CLI::ExistingDirectory);
   app.add_flag("--no-cloth-ball", no_cloth_ball, "skip cloth_ball92 -> 93");
   app.add_flag("--no-samples", no_samples, "skip the sample cache");
   app.add_option("--repeat", settings.repeat, "timed passes per measurement (median), after one warm-up")
@@ -233,7 +259,14 @@ int main(int argc, char** argv) {
       report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
     }
     if (!no_samples) {
-      const BenchScene scene = snag::bench::load_sample(samples_dir, sample_steps);
+      const BenchScene scene = snag::bench::load_sample("samples", samples_dir, first_frame, sample_steps);
+      report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
+    }
+    for (const std::string& dir : caches) {
+      std::string name = dir;
+      while (name.size() > 1 && name.back() == '/') name.pop_back();
+      name = name.substr(name.find_last_of('/') + 1);
+      const BenchScene scene = snag::bench::load_sample(name, dir, first_frame, sample_steps);
       report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
     }
     for (std::size_t i = 0; i < extra_scenes.size(); ++i) {

@@ -1,5 +1,6 @@
 #include "libcd/broad_phase/broad_phase.hpp"
 
+#include "libcd/broad_phase/box_grid.hpp"
 #include "libcd/broad_phase/brute_force.hpp"
 #include "libcd/broad_phase/virtual_subdivision_grid.hpp"
 
@@ -10,6 +11,7 @@ std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseMethod method) {
     case BroadPhaseMethod::kVirtualSubdivisionGrid: return std::make_unique<VirtualSubdivisionGrid>(true);
     case BroadPhaseMethod::kLargestTriangleGrid: return std::make_unique<VirtualSubdivisionGrid>(false);
     case BroadPhaseMethod::kBruteForce: return std::make_unique<BruteForceBroadPhase>();
+    case BroadPhaseMethod::kBoxGrid: return std::make_unique<BoxGridBroadPhase>();
   }
   return nullptr;
 }

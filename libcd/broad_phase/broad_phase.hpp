@@ -95,6 +95,7 @@ enum class BroadPhaseMethod {
   kVirtualSubdivisionGrid,  ///< the chapter's method (virtual_subdivision_grid.hpp)
   kLargestTriangleGrid,     ///< Grand's grid, cell fits the largest triangle, no subdivision
   kBruteForce,              ///< all triangle pairs (brute_force.hpp)
+  kBoxGrid,                 ///< the CPU's grid of triangle boxes, queried triangle by triangle (box_grid.hpp)
 };
 
 std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseMethod method);

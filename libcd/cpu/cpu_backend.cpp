@@ -35,7 +35,7 @@ class CpuBackend final : public Backend {
     broad.thickness = settings.thickness;
     broad.threads = settings.threads;
     ccd_broad_ = make_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
-    static_broad_ = make_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
+    static_broad_ = make_broad_phase(BroadPhaseMethod::kBoxGrid);
     ccd_broad_->build(scene, broad);
     BroadPhaseSettings static_settings = broad;
     static_settings.thickness = 0;
@@ -76,7 +76,10 @@ class CpuBackend final : public Backend {
           const Triangle& tb = triangles[pairs_[i].b];
           const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
           const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
-          hit[i] = triangles_intersect(a, ta.data(), b, tb.data(), &local) ? 1 : 0;
+          // Neighbours on a smooth surface are nearly coplanar: their 3D
+          // plane-side signs need the exact stage, their 2D signs do not.
+          hit[i] = !triangles_separated_in_projection(a, ta.data(), b, tb.data(), &local) &&
+                   triangles_intersect(a, ta.data(), b, tb.data(), &local);
         }
       });
       for (const PredicateCounters& local : counters) {

@@ -170,7 +170,124 @@ SNAG_HD_INLINE bool closed_triangles_intersect(const Vec3 p[3], int p_axis, cons
   return false;
 }
 
+/// Whether an edge line of the hull of v (nv = 2: a segment, 3: a triangle)
+/// has all of u (nu points) strictly on one side and v's own remaining
+/// vertex not on that side, in the projection dropping `axis`: then the
+/// projected hulls, and so the hulls, are disjoint. Any axis will do; a
+/// degenerate projection only finds no line. `v_orientation`: orient2d of
+/// v's three points (the side of each edge's remaining vertex, the same for
+/// all three edges), 0 for a segment. Edges are tried in the order v0v1,
+/// v2v0, v1v2: those at v0 first (put a shared vertex there).
+SNAG_HD_INLINE bool separated_by_edge_line_of(const Vec3* v, int nv, int v_orientation, const Vec3* u, int nu,
+                                              int axis, PredicateCounters* counters) {
+  const int lines = nv == 2 ? 1 : 3;
+  for (int line = 0; line < lines; ++line) {
+    const int i = line == 0 ? 0 : (line == 1 ? 2 : 1);
+    const Vec3 p = v[i], q = v[i + 1 == nv ? 0 : i + 1];
+    const int side = orient2d_projected(p, q, u[0], axis, counters);
+    if (side == 0 || side == v_orientation) continue;
+    bool all = true;
+    for (int k = 1; k < nu && all; ++k) all = orient2d_projected(p, q, u[k], axis, counters) == side;
+    if (all) return true;
+  }
+  return false;
+}
+
+/// The hulls of v and u (2 or 3 points each) are separated by an edge line
+/// of one of them in the projection dropping `axis`.
+SNAG_HD_INLINE bool separated_in_projection(const Vec3* v, int nv, const Vec3* u, int nu, int axis,
+                                            PredicateCounters* counters) {
+  const int v_orientation = nv == 3 ? orient2d_projected(v[0], v[1], v[2], axis, counters) : 0;
+  if (separated_by_edge_line_of(v, nv, v_orientation, u, nu, axis, counters)) return true;
+  const int u_orientation = nu == 3 ? orient2d_projected(u[0], u[1], u[2], axis, counters) : 0;
+  return separated_by_edge_line_of(u, nu, u_orientation, v, nv, axis, counters);
+}
+
+/// Triangles (v, a1, a2) and (v, b1, b2) sharing v: whether the line through
+/// v and one far vertex of one triangle has that triangle's other far vertex
+/// strictly on one side and both far vertices of the other triangle strictly
+/// on the other, in the projection dropping `axis`. Then the projected
+/// triangles meet only at v (the line holds only v of the second, and the
+/// first touches it along its edge from v, which leaves v), so neither far
+/// edge meets the other triangle. Fans of a smooth surface are split so.
+SNAG_HD_INLINE bool separated_at_shared_vertex(Vec3 v, Vec3 a1, Vec3 a2, Vec3 b1, Vec3 b2, int axis,
+                                               PredicateCounters* counters) {
+  const Vec3 first_far[2][2] = {{a1, a2}, {b1, b2}};
+  for (int side = 0; side < 2; ++side) {
+    const Vec3* own = first_far[side];
+    const Vec3* other = first_far[1 - side];
+    const int orientation = orient2d_projected(v, own[0], own[1], axis, counters);
+    if (orientation == 0) continue;
+    for (int k = 0; k < 2; ++k) {
+      // Line (v, own[k]); own[1 - k] lies on side -orientation for k = 1.
+      const int own_side = k == 0 ? orientation : -orientation;
+      const int s0 = orient2d_projected(v, own[k], other[0], axis, counters);
+      if (s0 != -own_side) continue;
+      if (orient2d_projected(v, own[k], other[1], axis, counters) == s0) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace triangle_detail
+
+/// An exact-sign filter in front of triangles_intersect: true only when
+/// triangles_intersect(a, a_ids, b, b_ids) is false, shown by 2D orientation
+/// signs in the projection along a's dominant normal axis (well conditioned
+/// for neighbouring triangles of a smooth surface, where the 3D plane-side
+/// tests are nearly zero and need the exact stage):
+///   - nothing shared: the projected triangles are separated by an edge line;
+///   - one shared vertex: a line through it splits the two triangles
+///     (separated_at_shared_vertex), or else each far edge is separated from
+///     the other triangle;
+///   - a shared edge: the opposite vertices are not strictly on one side of
+///     the edge's line, with a's opposite vertex off it (a non-degenerate in
+///     the projection). Coplanar, the sides agree in every projection that
+///     keeps a non-degenerate; not coplanar, the pair does not intersect.
+/// False means "not shown", not "intersecting". Same arguments as
+/// triangles_intersect. Does not throw.
+SNAG_HD_INLINE bool triangles_separated_in_projection(const Vec3 a[3], const std::uint32_t a_ids[3], const Vec3 b[3],
+                                                      const std::uint32_t b_ids[3],
+                                                      PredicateCounters* counters = nullptr) {
+  using namespace triangle_detail;
+  int shared_count = 0, a_shared = 0, b_shared = 0;
+  bool a_is_shared[3] = {false, false, false};
+  bool b_is_shared[3] = {false, false, false};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (a_ids[i] == b_ids[j]) {
+        ++shared_count;
+        a_is_shared[i] = b_is_shared[j] = true;
+        a_shared = i;
+        b_shared = j;
+      }
+  const Vec3 n = cross(a[1] - a[0], a[2] - a[0]);
+  const double nx = fabs(n.x), ny = fabs(n.y), nz = fabs(n.z);
+  const int axis = (nx >= ny && nx >= nz) ? 0 : (ny >= nz ? 1 : 2);
+  if (shared_count == 0) return separated_in_projection(a, 3, b, 3, axis, counters);
+  if (shared_count == 1) {
+    const Vec3 a_from_shared[3] = {a[a_shared], a[(a_shared + 1) % 3], a[(a_shared + 2) % 3]};
+    const Vec3 b_from_shared[3] = {b[b_shared], b[(b_shared + 1) % 3], b[(b_shared + 2) % 3]};
+    if (separated_at_shared_vertex(a_from_shared[0], a_from_shared[1], a_from_shared[2], b_from_shared[1],
+                                   b_from_shared[2], axis, counters))
+      return true;
+    return separated_in_projection(a_from_shared, 3, b_from_shared + 1, 2, axis, counters) &&
+           separated_in_projection(b_from_shared, 3, a_from_shared + 1, 2, axis, counters);
+  }
+  if (shared_count == 2) {
+    int a_opposite = 0, b_opposite = 0;
+    for (int i = 0; i < 3; ++i) {
+      if (!a_is_shared[i]) a_opposite = i;
+      if (!b_is_shared[i]) b_opposite = i;
+    }
+    const Vec3 edge0 = a[a_opposite == 2 ? 0 : a_opposite + 1];
+    const Vec3 edge1 = a[a_opposite == 0 ? 2 : a_opposite - 1];
+    const int r_side = orient2d_projected(edge0, edge1, a[a_opposite], axis, counters);
+    if (r_side == 0) return false;
+    return r_side * orient2d_projected(edge0, edge1, b[b_opposite], axis, counters) <= 0;
+  }
+  return false;  // a duplicated face (or ids repeated within a triangle)
+}
 
 /// True when the vertices p0, p1, p2 are collinear (exactly), including
 /// repeated positions. Such a triangle has no plane and is reported apart.

@@ -1,8 +1,9 @@
 // Tests for broad_phase/: every grid against brute-force oracles.
 //   T_leaf ⊆ VSS ⊆ T_root (virtual_subdivision_grid.hpp), largest-triangle
-//   grid == brute force, outputs sorted and unique, no VF/EE pair sharing a
-//   vertex, results independent of the thread count; on random soups with
-//   very uneven triangles, fast movers, and the reference meshes.
+//   grid == brute force, box grid == brute force (static and CCD), outputs
+//   sorted and unique, no VF/EE pair sharing a vertex, results independent
+//   of the thread count; on random soups with very uneven triangles, fast
+//   movers, and the reference meshes.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "bench/broad_phase/binary_ply.hpp"
+#include "libcd/broad_phase/box_grid.hpp"
 #include "libcd/broad_phase/brute_force.hpp"
 #include "libcd/broad_phase/virtual_subdivision_grid.hpp"
 #include "libcd/core/error.hpp"
@@ -269,6 +271,104 @@ TEST(VirtualSubdivisionGrid, StaticMeshesMatchOracles) {
     EXPECT_TRUE(includes(b, a)) << name;
     EXPECT_TRUE(l == b) << name;
   }
+}
+
+// The box grid returns T_root exactly: brute force's sets, static and CCD.
+void expect_box_grid_equals_brute_force(const Soup& soup, const BroadPhaseSettings& settings, const std::string& what) {
+  BoxGridBroadPhase grid;
+  BruteForceBroadPhase brute;
+  grid.build(soup.scene, settings);
+  brute.build(soup.scene, settings);
+  std::vector<TrianglePair> g, b;
+  grid.detect_static(soup.x_t0, g);
+  brute.detect_static(soup.x_t0, b);
+  EXPECT_TRUE(sorted_unique(g)) << what;
+  EXPECT_TRUE(g == b) << what << ": static, box grid " << g.size() << " pairs, brute force " << b.size();
+  EXPECT_EQ(grid.stats().triangle_pairs, b.size()) << what;
+  EXPECT_LE(grid.stats().registrations, 16 * soup.scene.triangle_count() + 64) << what;
+  CcdSets gc, bc;
+  grid.detect_ccd(soup.x_t0, soup.x_t1, gc.vf, gc.ee);
+  brute.detect_ccd(soup.x_t0, soup.x_t1, bc.vf, bc.ee);
+  EXPECT_TRUE(gc.vf == bc.vf) << what << ": CCD VF, box grid " << gc.vf.size() << ", brute force " << bc.vf.size();
+  EXPECT_TRUE(gc.ee == bc.ee) << what << ": CCD EE, box grid " << gc.ee.size() << ", brute force " << bc.ee.size();
+  EXPECT_GT(b.size(), 0u) << what;
+}
+
+TEST(BoxGrid, EqualsBruteForceOnUnevenSoups) {
+  for (unsigned seed : {11u, 12u, 13u}) {
+    expect_box_grid_equals_brute_force(random_soup(seed, 400, true), {}, "soup " + std::to_string(seed));
+    BroadPhaseSettings thick;
+    thick.thickness = 0.05;
+    expect_box_grid_equals_brute_force(random_soup(seed, 300, true), thick, "thick soup " + std::to_string(seed));
+  }
+}
+
+TEST(BoxGrid, OneHugeTriangleAmongTinyOnesKeepsTheGridBounded) {
+  // Many tiny triangles spread over a large box and one triangle as large as
+  // the scene: the mean size asks for fine cells, which the huge triangle
+  // would register in by the million; the grid coarsens instead.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 100);
+  std::vector<Vec3> x;
+  std::vector<Triangle> tris;
+  for (Index k = 0; k < 3000; ++k) {
+    const Vec3 c{u(rng), u(rng), u(rng)};
+    x.insert(x.end(), {c, c + Vec3{0.01, 0, 0}, c + Vec3{0, 0.01, 0.005}});
+    tris.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+  }
+  const Index base = static_cast<Index>(x.size());
+  x.insert(x.end(), {Vec3{0, 0, 0}, Vec3{100, 0, 100}, Vec3{0, 100, 100}});
+  tris.push_back({base, base + 1, base + 2});
+  Soup soup{Scene({make_object("huge", static_cast<Index>(x.size()), tris)}), x, x};
+  expect_box_grid_equals_brute_force(soup, {}, "one huge triangle");
+}
+
+TEST(BoxGrid, ResultsDoNotDependOnThreadCountAndReuseAcrossFrames) {
+  const Soup soup = random_soup(8, 400, true);
+  BroadPhaseSettings one, two;
+  one.threads = 1;
+  two.threads = 2;
+  BoxGridBroadPhase a, b;
+  a.build(soup.scene, one);
+  b.build(soup.scene, two);
+  CcdSets sa, sb;
+  a.detect_ccd(soup.x_t0, soup.x_t1, sa.vf, sa.ee);
+  b.detect_ccd(soup.x_t0, soup.x_t1, sb.vf, sb.ee);
+  EXPECT_TRUE(sa.vf == sb.vf);
+  EXPECT_TRUE(sa.ee == sb.ee);
+  EXPECT_EQ(a.stats().tests, b.stats().tests);
+  // The same instance on the step's end frame, then again on its start: the
+  // arrays kept from the last detection must not leak into the next.
+  std::vector<TrianglePair> first, end_frame, again;
+  a.detect_static(soup.x_t0, first);
+  a.detect_static(soup.x_t1, end_frame);
+  a.detect_static(soup.x_t0, again);
+  BoxGridBroadPhase fresh;
+  fresh.build(soup.scene, {});
+  std::vector<TrianglePair> fresh_end;
+  fresh.detect_static(soup.x_t1, fresh_end);
+  EXPECT_TRUE(first == again);
+  EXPECT_TRUE(end_frame == fresh_end);
+  EXPECT_FALSE(first == end_frame) << "the two frames should differ";
+}
+
+TEST(BoxGrid, RejectsPositionsOfTheWrongSize) {
+  const Soup soup = random_soup(1, 10, false);
+  BoxGridBroadPhase grid;
+  std::vector<TrianglePair> pairs;
+  EXPECT_THROW(grid.detect_static(soup.x_t0, pairs), UsageError);
+  grid.build(soup.scene, {});
+  std::vector<Vec3> short_positions(soup.x_t0.begin(), soup.x_t0.end() - 1);
+  EXPECT_THROW(grid.detect_static(short_positions, pairs), UsageError);
+  BroadPhaseSettings bad;
+  bad.thickness = -1;
+  EXPECT_THROW(grid.build(soup.scene, bad), UsageError);
+}
+
+TEST(BoxGrid, EqualsBruteForceOnReferenceMeshes) {
+  expect_box_grid_equals_brute_force(load_pair("thick-cloth/t0.ply", "thick-cloth/t1.ply"), {}, "thick cloth");
+  for (const char* name : {"bunny.ply", "two-cubes-close.ply", "two-cubes-intersecting.ply"})
+    expect_box_grid_equals_brute_force(load_pair(name, name), {}, name);
 }
 
 }  // namespace

@@ -103,7 +103,8 @@ struct OurReport {
 };
 
 /// All pairs of triangles with overlapping closed bounding boxes (a sweep
-/// along x), tested with triangles_intersect.
+/// along x), tested with triangles_separated_in_projection, then
+/// triangles_intersect.
 OurReport our_self_intersections(const TriangleSoup& soup) {
   struct Box {
     Vec3 lo, hi;
@@ -131,7 +132,9 @@ OurReport our_self_intersections(const TriangleSoup& soup) {
     const auto &ta = soup.triangles[fa], &tb = soup.triangles[fb];
     const Vec3 a[3] = {soup.positions[ta[0]], soup.positions[ta[1]], soup.positions[ta[2]]};
     const Vec3 b[3] = {soup.positions[tb[0]], soup.positions[tb[1]], soup.positions[tb[2]]};
-    if (triangles_intersect(a, ta.data(), b, tb.data(), &report.counters))
+    // As the CPU back end tests: the exact-sign 2D filter first.
+    if (!triangles_separated_in_projection(a, ta.data(), b, tb.data(), &report.counters) &&
+        triangles_intersect(a, ta.data(), b, tb.data(), &report.counters))
       report.pairs.emplace_back(std::min(fa, fb), std::max(fa, fb));
   }
   report.seconds_in_tests = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -236,7 +239,7 @@ bool cgal_rule(const Vec3 a[3], const std::uint32_t a_ids[3], const Vec3 b[3], c
 
 TEST(TrianglesIntersectVsCgal, MatchesCgalRulesOnRandomSoupsWithSharedAndCoincidentVertices) {
   std::mt19937_64 rng(11);
-  std::size_t intersecting = 0, tested = 0;
+  std::size_t intersecting = 0, tested = 0, filtered = 0;
   PredicateCounters counters;
   for (int trial = 0; trial < 6; ++trial) {
     // 40 grid points (0..2 per axis, some scaled by 2^-30 or nudged by an
@@ -282,12 +285,19 @@ TEST(TrianglesIntersectVsCgal, MatchesCgalRulesOnRandomSoupsWithSharedAndCoincid
         }
         ++tested;
         intersecting += ours;
-        ASSERT_EQ(ours, cgal_rule(a, ta.data(), b, tb.data()))
-            << "trial " << trial << " faces " << i << ", " << j << " adjacency " << to_string(adjacency);
+        const bool cgal = cgal_rule(a, ta.data(), b, tb.data());
+        ASSERT_EQ(ours, cgal) << "trial " << trial << " faces " << i << ", " << j << " adjacency "
+                              << to_string(adjacency);
+        if (triangles_separated_in_projection(a, ta.data(), b, tb.data())) {
+          ++filtered;
+          ASSERT_FALSE(cgal) << "the filter rejected an intersecting pair: trial " << trial << " faces " << i << ", "
+                             << j << " adjacency " << to_string(adjacency);
+        }
       }
   }
-  std::cout << "[random soups] pairs " << tested << ", intersecting " << intersecting << ", predicates "
-            << counters.calls << " (exact stage " << counters.exact << ")\n";
+  std::cout << "[random soups] pairs " << tested << ", intersecting " << intersecting << ", rejected by the 2D filter "
+            << filtered << ", predicates " << counters.calls << " (exact stage " << counters.exact << ")\n";
+  EXPECT_GT(filtered, tested / 10);
   EXPECT_GT(intersecting, tested / 10);
   EXPECT_LT(intersecting, tested);
 }

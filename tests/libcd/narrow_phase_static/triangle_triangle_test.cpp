@@ -1,6 +1,8 @@
 // Hand-made configurations of triangles_intersect: each kind of contact, with
 // and without shared vertex ids, exact touching and just-missing variants.
-// Every case is also checked in swapped order and under vertex rotations.
+// Every case is also checked in swapped order and under vertex rotations, and
+// the exact-sign filter in front of the test (triangles_separated_in_projection)
+// never rejects an intersecting pair.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -41,6 +43,11 @@ bool intersects(const Tri& a, const Tri& b, TriangleAdjacency* adjacency = nullp
         TriangleAdjacency adj_ab, adj_ba;
         EXPECT_EQ(triangles_intersect(a2.p, a2.id, b2.p, b2.id, nullptr, &adj_ab), first);
         EXPECT_EQ(triangles_intersect(b2.p, b2.id, a2.p, a2.id, nullptr, &adj_ba), first);
+        // The filter in front of the test may only reject pairs the test rejects.
+        if (first) {
+          EXPECT_FALSE(triangles_separated_in_projection(a2.p, a2.id, b2.p, b2.id));
+          EXPECT_FALSE(triangles_separated_in_projection(b2.p, b2.id, a2.p, a2.id));
+        }
         EXPECT_EQ(adj_ab, first_adjacency);
         EXPECT_EQ(adj_ba, first_adjacency);
       }

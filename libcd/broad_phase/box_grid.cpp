@@ -1,0 +1,312 @@
+#include "libcd/broad_phase/box_grid.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "libcd/broad_phase/feature_stage.hpp"
+#include "libcd/core/error.hpp"
+
+namespace snag {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+int arena_threads(unsigned threads) {
+  return threads == 0 ? tbb::task_arena::automatic : static_cast<int>(threads);
+}
+
+void check_positions(const Scene* scene, const std::vector<Vec3>& x, const char* what) {
+  if (scene == nullptr) throw UsageError("broad phase: build() must be called before detection");
+  if (x.size() != scene->vertex_count())
+    throw UsageError(std::string("broad phase: ") + what + " holds " + std::to_string(x.size()) +
+                     " positions, the scene has " + std::to_string(scene->vertex_count()) + " vertices");
+}
+
+/// The largest float not above x, and the smallest not below it.
+float float_at_most(double x) {
+  const float f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::nextafter(f, -HUGE_VALF) : f;
+}
+float float_at_least(double x) {
+  const float f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, HUGE_VALF) : f;
+}
+
+/// Triangles per output block: fixed, so that the blocks (and the output
+/// order) do not depend on the thread count.
+constexpr std::size_t kBlock = 256;
+
+/// Registrations box-tested before the overlapping ones are handled.
+constexpr int kChunk = 64;
+
+}  // namespace
+
+void BoxGridBroadPhase::build(const Scene& scene, const BroadPhaseSettings& settings) {
+  if (!(settings.thickness >= 0.0)) throw UsageError("broad phase: thickness must be >= 0");
+  scene_ = &scene;
+  settings_ = settings;
+  tbb::task_arena arena(arena_threads(settings.threads));
+  arena.execute([&] { reps_ = assign_representative_triangles(scene); });
+}
+
+void BoxGridBroadPhase::choose_grid() {
+  const std::vector<Dop18>& dops = *dops_;
+  const std::size_t n = dops.size();
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, extent_sum = 0;
+  for (const Dop18& d : dops) {
+    double extent = 0;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], d.lo[a]);
+      hi[a] = std::max(hi[a], d.hi[a]);
+      extent = std::max(extent, d.hi[a] - d.lo[a]);
+    }
+    extent_sum += extent;
+  }
+  double span = 0;
+  for (int a = 0; a < 3; ++a) span = std::max(span, hi[a] - lo[a]);
+  double size = n ? 1.5 * extent_sum / double(n) : 1.0;
+  if (!(size > 0) || !std::isfinite(size)) size = span > 0 ? span : 1.0;
+  const double max_cells = 4.0 * double(n) + 64.0;
+  const double max_registrations = 16.0 * double(n) + 64.0;
+  for (;;) {
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) cells *= std::max(1.0, std::ceil((hi[a] - lo[a]) / size));
+    if (cells > max_cells) {
+      size *= std::cbrt(cells / max_cells) * 1.001;
+      continue;
+    }
+    for (int a = 0; a < 3; ++a) {
+      origin_[a] = lo[a];
+      dims_[a] = static_cast<std::int64_t>(std::max(1.0, std::ceil((hi[a] - lo[a]) / size)));
+    }
+    inverse_cell_size_ = 1.0 / size;
+    // Cell ranges of every box. cell() is monotone in the coordinate, which
+    // is all that the set returned relies on.
+    for (int a = 0; a < 3; ++a) {
+      cell_lo_[a].resize(n);
+      cell_hi_[a].resize(n);
+    }
+    first_registration_.resize(n + 1);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+      for (std::size_t t = range.begin(); t != range.end(); ++t) {
+        for (int a = 0; a < 3; ++a) {
+          const double scale = inverse_cell_size_;
+          const std::int64_t last = dims_[a] - 1;
+          auto cell = [&](double v) {
+            const double c = std::floor((v - origin_[a]) * scale);
+            return static_cast<std::uint32_t>(c <= 0 ? 0 : (c >= double(last) ? last : std::int64_t(c)));
+          };
+          cell_lo_[a][t] = cell(dops[t].lo[a]);
+          cell_hi_[a][t] = cell(dops[t].hi[a]);
+        }
+      }
+    });
+    first_registration_[0] = 0;
+    for (std::size_t t = 0; t < n; ++t) {
+      std::uint64_t volume = 1;
+      for (int a = 0; a < 3; ++a) volume *= std::uint64_t(cell_hi_[a][t] - cell_lo_[a][t] + 1);
+      first_registration_[t + 1] = first_registration_[t] + volume;
+    }
+    if (double(first_registration_[n]) <= max_registrations) break;
+    size *= 2;  // ends: with one cell, every triangle registers once
+  }
+  stats_.cell_size = 1.0 / inverse_cell_size_;
+  for (int a = 0; a < 3; ++a) stats_.grid_dims[a] = static_cast<int>(dims_[a]);
+}
+
+void BoxGridBroadPhase::register_boxes() {
+  const std::vector<Dop18>& dops = *dops_;
+  const std::size_t n = dops.size();
+  const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
+  const std::size_t registrations = first_registration_[n];
+  cell_first_.assign(cells + 1, 0);
+  auto for_each_cell = [&](std::size_t t, auto&& visit) {
+    for (std::uint32_t z = cell_lo_[2][t]; z <= cell_hi_[2][t]; ++z)
+      for (std::uint32_t y = cell_lo_[1][t]; y <= cell_hi_[1][t]; ++y)
+        for (std::uint32_t x = cell_lo_[0][t]; x <= cell_hi_[0][t]; ++x)
+          visit(std::size_t(x) + std::size_t(dims_[0]) * (std::size_t(y) + std::size_t(dims_[1]) * z));
+  };
+  // Counting sort by cell, in parallel: counts and cursors by atomic adds,
+  // then each cell's triangles sorted by id, so that the order does not
+  // depend on the thread schedule.
+  auto atomic_add = [](std::uint64_t& counter) { return __atomic_fetch_add(&counter, 1, __ATOMIC_RELAXED); };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
+    for (std::size_t t = range.begin(); t != range.end(); ++t)
+      for_each_cell(t, [&](std::size_t c) { atomic_add(cell_first_[c + 1]); });
+  });
+  std::size_t used = 0;
+  for (std::size_t c = 0; c < cells; ++c) {
+    used += cell_first_[c + 1] != 0;
+    cell_first_[c + 1] += cell_first_[c];
+  }
+  members_.resize(registrations);
+  std::vector<std::uint64_t>& next = next_in_cell_;
+  next.assign(cell_first_.begin(), cell_first_.end() - 1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
+    for (std::size_t t = range.begin(); t != range.end(); ++t) {
+      Member box;
+      for (int a = 0; a < 3; ++a) {
+        box.lo[a] = float_at_most(dops[t].lo[a]);
+        box.hi[a] = float_at_least(dops[t].hi[a]);
+      }
+      box.triangle = static_cast<Index>(t);
+      box.unused = 0;
+      for_each_cell(t, [&](std::size_t c) { members_[atomic_add(next[c])] = box; });
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 4096), [&](const auto& range) {
+    for (std::size_t c = range.begin(); c != range.end(); ++c)
+      std::sort(members_.begin() + static_cast<std::ptrdiff_t>(cell_first_[c]),
+                members_.begin() + static_cast<std::ptrdiff_t>(cell_first_[c + 1]),
+                [](const Member& p, const Member& q) { return p.triangle < q.triangle; });
+  });
+  stats_.cells_used = used;
+  stats_.registrations = registrations;
+  stats_.home_registrations = n;
+  stats_.phantom_registrations = registrations - n;
+}
+
+void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
+  const std::vector<Dop18>& dops = *dops_;
+  const std::size_t n = dops.size();
+  stats_.root_triangles = n;
+
+  auto t = Clock::now();
+  choose_grid();
+  register_boxes();
+  stats_.seconds_registration = seconds_since(t);
+
+  t = Clock::now();
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  block_pairs_.resize(blocks);
+  block_tests_.assign(blocks, 0);
+  block_culled_.assign(blocks, 0);
+  const std::size_t dim_x = static_cast<std::size_t>(dims_[0]), dim_y = static_cast<std::size_t>(dims_[1]);
+  const Member* members = members_.data();
+  const std::uint64_t* cell_first = cell_first_.data();
+  const std::uint32_t *cell_lo_x = cell_lo_[0].data(), *cell_lo_y = cell_lo_[1].data(), *cell_lo_z = cell_lo_[2].data();
+  const std::uint32_t *cell_hi_x = cell_hi_[0].data(), *cell_hi_y = cell_hi_[1].data(), *cell_hi_z = cell_hi_[2].data();
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+    std::vector<TrianglePair>& out = block_pairs_[block];
+    out.clear();
+    std::size_t tests = 0, culled = 0;
+    const std::size_t end = std::min(n, (block + 1) * kBlock);
+    for (std::size_t ta = block * kBlock; ta < end; ++ta) {
+      const Index a = static_cast<Index>(ta);
+      const Dop18& da = dops[a];
+      const float lo_x = float_at_most(da.lo[0]), lo_y = float_at_most(da.lo[1]), lo_z = float_at_most(da.lo[2]);
+      const float hi_x = float_at_least(da.hi[0]), hi_y = float_at_least(da.hi[1]), hi_z = float_at_least(da.hi[2]);
+      const std::uint32_t ax = cell_lo_x[a], ay = cell_lo_y[a], az = cell_lo_z[a];
+      const std::size_t first_out = out.size();
+      for (std::uint32_t z = az; z <= cell_hi_z[a]; ++z) {
+        for (std::uint32_t y = ay; y <= cell_hi_y[a]; ++y) {
+          for (std::uint32_t x = ax; x <= cell_hi_x[a]; ++x) {
+            const std::size_t c = x + dim_x * (y + dim_y * z);
+            // A cell lists its triangles by increasing id: start after a.
+            const Member* k = members + cell_first[c];
+            const Member* k_end = members + cell_first[c + 1];
+            while (k != k_end && k->triangle <= a) ++k;
+            tests += static_cast<std::size_t>(k_end - k);
+            while (k != k_end) {
+              // Box tests without branches (about half overlap: a branch
+              // would mispredict), the overlapping ones compacted.
+              const Member* chunk_end = k + std::min<std::ptrdiff_t>(kChunk, k_end - k);
+              std::uint32_t overlapping[kChunk];
+              int count = 0;
+              for (const Member* m = k; m != chunk_end; ++m) {
+                const bool apart = (m->lo[0] > hi_x) | (m->hi[0] < lo_x) | (m->lo[1] > hi_y) | (m->hi[1] < lo_y) |
+                                   (m->lo[2] > hi_z) | (m->hi[2] < lo_z);
+                overlapping[count] = m->triangle;
+                count += !apart;
+              }
+              k = chunk_end;
+              for (int h = 0; h < count; ++h) {
+                const Index b = overlapping[h];
+                // Only in the cell of the low corner of the boxes' intersection.
+                if (x != std::max(ax, cell_lo_x[b]) || y != std::max(ay, cell_lo_y[b]) ||
+                    z != std::max(az, cell_lo_z[b]))
+                  continue;
+                if (dop_overlap(da, dops[b]))
+                  out.push_back({a, b});
+                else
+                  ++culled;
+              }
+            }
+          }
+        }
+      }
+      std::sort(out.begin() + static_cast<std::ptrdiff_t>(first_out), out.end());
+    }
+    block_tests_[block] = tests;
+    block_culled_[block] = culled;
+  });
+  std::size_t total = 0;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    total += block_pairs_[b].size();
+    stats_.tests += block_tests_[b];
+    stats_.culled_by_dop += block_culled_[b];
+  }
+  pairs.clear();
+  pairs.reserve(total);
+  for (const auto& block : block_pairs_) pairs.insert(pairs.end(), block.begin(), block.end());
+  stats_.tests_after_control_bits = stats_.tests;
+  stats_.triangle_pairs = pairs.size();
+  stats_.leaf_triangles = n;
+  stats_.seconds_pairs = seconds_since(t);
+  stats_.memory_bytes = dops.size() * sizeof(Dop18) + cell_first_.capacity() * sizeof(std::uint64_t) +
+                        n * (6 * sizeof(std::uint32_t) + sizeof(std::uint64_t)) +
+                        members_.capacity() * sizeof(Member) +
+                        pairs.capacity() * sizeof(TrianglePair);
+}
+
+void BoxGridBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                   std::vector<VertexFaceCandidate>& vf, std::vector<EdgeEdgeCandidate>& ee) {
+  check_positions(scene_, x_t0, "x_t0");
+  check_positions(scene_, x_t1, "x_t1");
+  tbb::task_arena arena(arena_threads(settings_.threads));
+  arena.execute([&] {
+    stats_ = BroadPhaseStats{};
+    const auto start = Clock::now();
+    bounds_ = compute_primitive_bounds(*scene_, x_t0, x_t1, settings_.thickness);
+    dops_ = &bounds_.triangles;
+    stats_.seconds_bounds = seconds_since(start);
+    triangle_pairs(pairs_);
+    feature_stage(*scene_, reps_, bounds_, pairs_, vf, ee, stats_);
+    stats_.memory_bytes += (bounds_.edges.size() + bounds_.vertices.size()) * sizeof(Dop18);
+    stats_.seconds_total = seconds_since(start);
+  });
+}
+
+void BoxGridBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) {
+  check_positions(scene_, x, "x");
+  tbb::task_arena arena(arena_threads(settings_.threads));
+  arena.execute([&] {
+    stats_ = BroadPhaseStats{};
+    const auto start = Clock::now();
+    const auto& triangles = scene_->triangles();
+    static_dops_.resize(triangles.size());
+    const double thickness = settings_.thickness;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 4096), [&](const auto& range) {
+      for (std::size_t f = range.begin(); f != range.end(); ++f) {
+        const Vec3 p[3] = {x[triangles[f][0]], x[triangles[f][1]], x[triangles[f][2]]};
+        // The pad of swept_dop over the same corners twice: the same DOP as
+        // compute_primitive_bounds(x, x) gives.
+        static_dops_[f] = dop_of_points(p, 3, rounding_pad(p, 3), thickness);
+      }
+    });
+    dops_ = &static_dops_;
+    stats_.seconds_bounds = seconds_since(start);
+    triangle_pairs(pairs);
+    stats_.candidates = pairs.size();
+    stats_.seconds_total = seconds_since(start);
+  });
+}
+
+}  // namespace snag

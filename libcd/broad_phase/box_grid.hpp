@@ -1,0 +1,90 @@
+// A broad phase shaped for CPUs: a uniform grid of triangle boxes, queried
+// triangle by triangle, with no subdivision and no global sort.
+//
+//   1. 18-DOPs of the triangles (static, or swept over the step), whose axis
+//      slabs are the boxes;
+//   2. a uniform grid over the boxes; each triangle is registered in every
+//      cell its box overlaps (a counting sort by cell, so each cell lists its
+//      triangles in id order, each with its box rounded outwards to floats,
+//      so that a cell's scan streams 32 bytes per triangle);
+//   3. for each triangle a, in parallel over fixed blocks of triangles, the
+//      cells of its box are scanned for triangles b > a whose boxes overlap
+//      a's; the pair is kept only in the cell that holds the low corner of
+//      the two boxes' intersection (so it is found once, without a sort and
+//      unique), and only when the two 18-DOPs overlap;
+//   4. a's partners are sorted (a handful) and the blocks concatenated in
+//      order, so the output is sorted and the same for every thread count.
+// The cell size is 1.5 times the mean box extent, grown until the grid has at
+// most 4·#F + 64 cells and at most 16·#F registrations, so memory stays
+// linear in the triangle count whatever the sizes (a scene of one huge
+// triangle and many small ones ends with coarse cells, not a blow-up).
+//
+// The set returned is T_root exactly, the set of the brute force broad phase
+// (brute_force.hpp): every pair (a < b) whose DOPs overlap. If the DOPs
+// overlap, so do their axis slabs, the low corner of the boxes' intersection
+// lies in both boxes, and the cell mapping (clamped floor of a scaled offset)
+// is monotone, so that corner's cell lies in the cell ranges of both boxes:
+// a's query sees b there. The CCD output is then the representative-triangle
+// features of T_root, culled by vertex/face and edge/edge swept DOPs
+// (feature_stage.hpp), as the other broad phases do.
+//
+// Ericson, "Real-Time Collision Detection", 2005, §7.1 (uniform grids, the
+// low-corner rule for reporting a pair once); Klosowski et al. 1998 (k-DOPs).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "libcd/bounding_volume/primitive_bounds.hpp"
+#include "libcd/broad_phase/broad_phase.hpp"
+#include "libcd/culling/representative_triangles.hpp"
+
+namespace snag {
+
+class BoxGridBroadPhase : public BroadPhase {
+ public:
+  void build(const Scene& scene, const BroadPhaseSettings& settings) override;
+  void detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<VertexFaceCandidate>& vf,
+                  std::vector<EdgeEdgeCandidate>& ee) override;
+  void detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) override;
+  const BroadPhaseStats& stats() const override { return stats_; }
+
+ private:
+  /// Triangle pairs whose DOPs (dops_, #F) overlap, sorted, into `pairs`.
+  void triangle_pairs(std::vector<TrianglePair>& pairs);
+  /// Chooses the cell size and dimensions for the boxes of dops_.
+  void choose_grid();
+  /// Registers every triangle in the cells of its box (counting sort).
+  void register_boxes();
+
+  const Scene* scene_ = nullptr;
+  BroadPhaseSettings settings_;
+  RepresentativeTriangles reps_;
+  BroadPhaseStats stats_;
+  PrimitiveBounds bounds_;  ///< CCD: all primitives' swept DOPs
+  std::vector<Dop18> static_dops_;
+  std::vector<TrianglePair> pairs_;  ///< CCD: the triangle pairs before the feature stage
+  const std::vector<Dop18>* dops_ = nullptr;  ///< the triangle DOPs of this detection
+
+  // The grid, kept between detections so that its arrays are reused.
+  double origin_[3] = {0, 0, 0};
+  double inverse_cell_size_ = 1;
+  std::int64_t dims_[3] = {1, 1, 1};
+  std::vector<std::uint64_t> cell_first_;  ///< #cells + 1, start of each cell's registrations
+  std::vector<std::uint64_t> next_in_cell_;  ///< #cells, the counting sort's cursors
+  std::vector<std::uint32_t> cell_lo_[3], cell_hi_[3];  ///< #F cell range of each box, per axis
+  std::vector<std::uint64_t> first_registration_;       ///< #F + 1, prefix sum of range volumes
+  /// A registration: the triangle and its box rounded outwards to floats
+  /// (half the bytes to stream; the exact DOP test follows).
+  struct Member {
+    float lo[3], hi[3];
+    Index triangle;
+    std::uint32_t unused;
+  };
+  std::vector<Member> members_;  ///< registrations in cell order
+  // Output blocks, one per fixed range of triangles.
+  std::vector<std::vector<TrianglePair>> block_pairs_;
+  std::vector<std::size_t> block_tests_, block_culled_;
+};
+
+}  // namespace snag
