@@ -49,7 +49,9 @@ print("yes" if measured_out(sys.argv[1]) == measured_out(sys.argv[2]) else "NO")
 PY
 }
 
-one=$(seconds "$here/bin/snag-scan" "${inputs[@]}" -r "$work/one.jsonl") || exit 1
+# snag-scan alone loads Open MPI's libraries from the bundle too.
+libraries=$here/ompi/lib/x86_64-linux-gnu/openmpi/lib:$here/pmix2/lib:$here/lib
+one=$(seconds env LD_LIBRARY_PATH="$libraries" "$here/bin/snag-scan" "${inputs[@]}" -r "$work/one.jsonl") || exit 1
 python3 -c "import json; t=json.loads(open('$work/one.jsonl').readlines()[-1]); s=t['summary'];
 print('one process: %s s; %d events, %d regions, %d tracks; report %.2f s of it' % ('$one', s['events'], s['regions'], s['tracks'], t['timing']['report']))"
 printf '%-6s %10s %9s %11s %10s\n' ranks seconds speed-up efficiency identical

@@ -57,12 +57,12 @@ struct Scanned {
   std::string stages_json;
 };
 
-// The sample's frames 18 to 28 under its manifest (an allow rule, fail
+// The sample's frames 20 to 26 under its manifest (an allow rule, fail
 // rules), with a cap of events that falls inside a later range, and the
 // cloth thinner than the run so that collisions are re-decided.
 class SplitScan : public ::testing::Test {
  protected:
-  void SetUp() override { open("18:28"); }
+  void SetUp() override { open("20:26"); }
 
   void open(const std::string& frames) {
     CacheArguments cache;
