@@ -21,6 +21,14 @@
 //  - events: built on the host from the same doubles with the same formulas
 //    (event_builder.hpp) and sorted with event_order: bit-identical to the
 //    CPU back end's.
+//  - overlap: the scan asks for frame f's intersections, then for the
+//    collisions of f -> f + 1, then for frame f + 1's intersections. Once
+//    intersections have been asked for, collisions() starts the static
+//    detection of its x_t1 on the device (a thread of its own, its own stream,
+//    broad phase and narrow phase) as soon as its own device work is done, so
+//    that it runs while the host searches, certifies and builds the step's
+//    events; intersections() of that frame then only builds its events. A
+//    slot is never overwritten while that work reads it.
 #include "libcd/cuda/cuda_backend.hpp"
 
 #include <tbb/parallel_for.h>
@@ -30,6 +38,7 @@
 #include <array>
 #include <chrono>
 #include <cstring>
+#include <future>
 #include <string>
 
 #include "libcd/core/error.hpp"
@@ -73,6 +82,17 @@ struct FrameSlot {
   unsigned long long last_use = 0;
 };
 
+/// One frame's static detection on the device: the intersecting triangle
+/// pairs and the counts, from which the host builds the events.
+struct StaticFound {
+  std::vector<std::uint32_t> hits;
+  std::vector<TrianglePair> pairs;
+  TrianglePairCounts counts;
+  BroadPhaseStats broad;
+  std::size_t tests = 0;
+  double narrow_seconds = 0, device_seconds = 0;
+};
+
 class CudaBackend final : public Backend {
  public:
   explicit CudaBackend(BroadPhaseMethod method)
@@ -80,10 +100,17 @@ class CudaBackend final : public Backend {
         triangles_(0, compute_.get()),
         edges_(0, compute_.get()),
         narrow_(compute_.get()),
+        static_narrow_(static_stream_.get()),
         slots_{FrameSlot(copy_.get()), FrameSlot(copy_.get())} {}
 
   ~CudaBackend() override {
     // Buffers are freed in stream order; let the work using them finish first.
+    try {
+      join_static_ahead();
+    } catch (...) {
+      // An error of work nobody asked for the results of yet: nothing to report it to.
+    }
+    (void)cudaStreamSynchronize(static_stream_.get());
     (void)cudaStreamSynchronize(compute_.get());
     (void)cudaStreamSynchronize(copy_.get());
   }
@@ -91,6 +118,8 @@ class CudaBackend final : public Backend {
   std::string name() const override { return "cuda"; }
 
   void bind(const Scene& scene, const BackendSettings& settings) override {
+    join_static_ahead();
+    static_seen_ = false;
     scene_ = &scene;
     settings_ = settings;
     settings_.ccd.thickness = settings.thickness;
@@ -160,6 +189,8 @@ class CudaBackend final : public Backend {
                       CcdPasses::kScreenOnly, ee_answers_, &ee_hits_.candidates);
     const NarrowPhaseTimings& device = narrow_.timings();
     stats_.narrow.seconds_ccd_device = 1e-3 * (device.screen_ms + device.search_ms + device.compact_ms);
+    // The device is free: the next frame's intersections, while the host works.
+    if (static_seen_ && !static_ahead_.valid()) start_static_ahead(slot_t1);
     for (const CcdHit& hit : vf_answers_) vf_hits_.results.push_back(hit.result);
     for (const CcdHit& hit : ee_answers_) ee_hits_.results.push_back(hit.result);
     // What the screen left undecided: the whole test, on the CPU.
@@ -183,28 +214,26 @@ class CudaBackend final : public Backend {
     require_bound(x.size() == scene_->vertex_count());
     stats_ = PipelineStats{};
     stats_.frames = 1;
+    static_seen_ = true;
     const int slot = upload_frame(x, find_frame(x), -1);
-    wait_for(slot);
-    const Vec3* d_x = slots_[slot].device.data();
-    const DeviceCandidates candidates = static_broad_->detect_static_on_device(d_x, compute_.get());
-    stats_.static_broad = static_broad_->stats();
-
-    const auto start = std::chrono::steady_clock::now();
-    static_hits_.clear();
-    static_hit_pairs_.clear();
-    TrianglePairCounts counts;
-    narrow_.reset_timings();
-    narrow_.triangle_pairs(d_x, triangles_.data(), candidates.pairs, candidates.pair_count, static_hits_, counts,
-                           &static_hit_pairs_);
-    stats_.narrow.seconds_static_device = 1e-3 * (narrow_.timings().static_ms + narrow_.timings().compact_ms);
-    stats_.narrow.predicate_calls = counts.predicate_calls;
-    stats_.narrow.predicate_exact = counts.predicate_exact;
-    stats_.narrow.triangle_tests = candidates.pair_count;
+    if (static_ahead_.valid() && static_ahead_slot_ == slot) {
+      static_ahead_.get();  // started by collisions(); rethrows what it threw
+    } else {
+      join_static_ahead();
+      wait_for(static_stream_.get(), slot);
+      find_static(slot);
+    }
+    const StaticFound& found = static_found_;
+    stats_.static_broad = found.broad;
+    stats_.narrow.seconds_static_device = found.device_seconds;
+    stats_.narrow.predicate_calls = found.counts.predicate_calls;
+    stats_.narrow.predicate_exact = found.counts.predicate_exact;
+    stats_.narrow.triangle_tests = found.tests;
     const auto events_start = std::chrono::steady_clock::now();
-    arena_->execute([&] { append_intersection_events(*scene_, x, static_hit_pairs_, events); });
+    arena_->execute([&] { append_intersection_events(*scene_, x, found.pairs, events); });
     stats_.narrow.seconds_static_events = seconds_since(events_start);
-    stats_.narrow.triangles_intersecting += static_hits_.size();
-    stats_.narrow.seconds_static = seconds_since(start);
+    stats_.narrow.triangles_intersecting += found.hits.size();
+    stats_.narrow.seconds_static = found.narrow_seconds + stats_.narrow.seconds_static_events;
   }
 
   void prepare(const std::vector<Vec3>& x) override {
@@ -218,6 +247,44 @@ class CudaBackend final : public Backend {
   void require_bound(bool sizes_match) const {
     if (scene_ == nullptr) throw UsageError("the CUDA back end was used before bind()");
     if (!sizes_match) throw UsageError("the CUDA back end got positions whose count differs from the scene's");
+  }
+
+  // Static detection of the frame in `slot` on the static stream (which
+  // waits for the slot's upload first: wait_for), into static_found_: the
+  // broad phase and the narrow phase on the device, the intersecting pairs
+  // downloaded. Runs on the calling thread or as static_ahead_.
+  void find_static(int slot) {
+    StaticFound& found = static_found_;
+    const Vec3* d_x = slots_[slot].device.data();
+    const DeviceCandidates candidates = static_broad_->detect_static_on_device(d_x, static_stream_.get());
+    found.broad = static_broad_->stats();
+    const auto start = std::chrono::steady_clock::now();
+    found.hits.clear();
+    found.pairs.clear();
+    found.counts = TrianglePairCounts{};
+    static_narrow_.reset_timings();
+    static_narrow_.triangle_pairs(d_x, triangles_.data(), candidates.pairs, candidates.pair_count, found.hits,
+                                  found.counts, &found.pairs);
+    found.device_seconds = 1e-3 * (static_narrow_.timings().static_ms + static_narrow_.timings().compact_ms);
+    found.tests = candidates.pair_count;
+    found.narrow_seconds = seconds_since(start);
+  }
+
+  // Starts find_static(slot) on a thread of its own, on this thread's device.
+  void start_static_ahead(int slot) {
+    wait_for(static_stream_.get(), slot);
+    int device = 0;
+    SNAG_CUDA_CHECK(cudaGetDevice(&device));
+    static_ahead_slot_ = slot;
+    static_ahead_ = std::async(std::launch::async, [this, slot, device] {
+      SNAG_CUDA_CHECK(cudaSetDevice(device));
+      find_static(slot);
+    });
+  }
+
+  // Waits for the static detection started ahead, if any; rethrows its error.
+  void join_static_ahead() {
+    if (static_ahead_.valid()) static_ahead_.get();
   }
 
   // The slot that holds x, or -1.
@@ -243,6 +310,7 @@ class CudaBackend final : public Backend {
       return found;
     }
     int s = keep == 0 ? 1 : (keep == 1 ? 0 : (slots_[0].last_use <= slots_[1].last_use ? 0 : 1));
+    if (static_ahead_.valid() && static_ahead_slot_ == s) join_static_ahead();  // it reads the slot
     FrameSlot& slot = slots_[s];
     slot.valid = false;
     // The previous upload from this mirror, and the work that read the slot
@@ -261,11 +329,14 @@ class CudaBackend final : public Backend {
     return s;
   }
 
-  void wait_for(int slot) { SNAG_CUDA_CHECK(cudaStreamWaitEvent(compute_.get(), slots_[slot].uploaded.get(), 0)); }
+  void wait_for(int slot) { wait_for(compute_.get(), slot); }
+  void wait_for(cudaStream_t stream, int slot) {
+    SNAG_CUDA_CHECK(cudaStreamWaitEvent(stream, slots_[slot].uploaded.get(), 0));
+  }
 
   BroadPhaseMethod method_;
   // Declared first: the buffers below are freed in their streams' order.
-  Stream compute_, copy_;
+  Stream compute_, copy_, static_stream_;
   const Scene* scene_ = nullptr;
   BackendSettings settings_;
   std::unique_ptr<CudaBroadPhase> ccd_broad_, static_broad_;
@@ -273,13 +344,16 @@ class CudaBackend final : public Backend {
   DeviceBuffer<Triangle> triangles_;
   DeviceBuffer<Edge> edges_;
   CudaNarrowPhase narrow_;
+  CudaNarrowPhase static_narrow_;  ///< on static_stream_, beside narrow_
   FrameSlot slots_[2];
   unsigned long long use_clock_ = 0;
   std::vector<CcdHit> vf_answers_, ee_answers_;
   CcdHits<VertexFaceCandidate> vf_hits_;
   CcdHits<EdgeEdgeCandidate> ee_hits_;
-  std::vector<std::uint32_t> static_hits_;
-  std::vector<TrianglePair> static_hit_pairs_;
+  StaticFound static_found_;
+  bool static_seen_ = false;          ///< intersections() was called since bind()
+  std::future<void> static_ahead_;    ///< find_static() running ahead, when valid
+  int static_ahead_slot_ = -1;
   PipelineStats stats_;
 };
 

@@ -2,7 +2,8 @@
 // vectors, bit for bit (kind, type, ids, times of impact, positions,
 // certainty), and the same narrow-phase counts, on random soups of uneven
 // sizes, on frames refilled in place (the device frame cache must not serve a
-// stale frame), on the sample cache through scan_cache, and on the real
+// stale frame), on frames other than the one whose intersections were started
+// ahead, on the sample cache through scan_cache, and on the real
 // cloth_ball92 -> 93 step.
 #include <gtest/gtest.h>
 
@@ -180,6 +181,23 @@ TEST_F(BackendEquality, FrameRefilledInPlaceIsUploadedAgain) {
   pair.compare_frame(a, "frame 3");
   pair.compare_frame(b, "frame 0");
   EXPECT_GT(pair.collisions_found, 0u);
+}
+
+// collisions() starts the static detection of its x_t1 ahead (once
+// intersections were asked for); a caller that then asks for another frame, or
+// for a frame whose slot was refilled, must get that frame's intersections.
+TEST_F(BackendEquality, IntersectionsOfAFrameOtherThanTheOneStartedAhead) {
+  const Soup soup = make_soup(900, 4, 0.03, 11);
+  BackendPair pair(soup.scene, settings_with_certifier(true));
+  pair.compare_frame(soup.frames[0], "frame 0");
+  pair.compare_step(soup.frames[0], soup.frames[1], "step 0");  // starts frame 1 ahead
+  pair.compare_frame(soup.frames[2], "frame 2 instead of 1");
+  pair.compare_step(soup.frames[2], soup.frames[3], "step 2");  // starts frame 3 ahead
+  pair.compare_step(soup.frames[0], soup.frames[1], "step 0 again");  // refills frame 3's slot
+  pair.compare_frame(soup.frames[3], "frame 3");
+  pair.compare_frame(soup.frames[1], "frame 1");
+  EXPECT_GT(pair.collisions_found, 0u);
+  EXPECT_GT(pair.intersections_found, 0u);
 }
 
 /// The sample caches: $SNAG_SAMPLES_DIR; else samples/ next to the reference
