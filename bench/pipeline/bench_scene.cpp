@@ -34,12 +34,11 @@ BenchScene load_mesh_pair(const std::string& name, const std::string& t0_path, c
   return bench;
 }
 
-BenchScene load_sample(const std::string& name, const std::string& sample_dir, std::size_t first, std::size_t steps) {
+BenchScene load_sample(const std::string& name, const std::string& sample_dir, const io::FrameSelection& frames) {
   io::CacheOptions options;
   options.inputs.push_back({sample_dir + "/cloth.pc2", sample_dir + "/cloth_rest.obj", "cloth", {}});
   options.inputs.push_back({sample_dir + "/body.pc2", sample_dir + "/body_rest.obj", "body", {}});
-  options.frames.first = first;
-  if (steps > 0) options.frames.last = first + steps;
+  options.frames = frames;
   const auto source = io::open_cache(options);
   BenchScene bench;
   bench.name = name;

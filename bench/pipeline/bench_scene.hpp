@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "io/open_cache.hpp"
 #include "libcd/geometry/vec3.hpp"
 #include "libcd/scene/scene.hpp"
 
@@ -25,9 +26,8 @@ BenchScene load_mesh_pair(const std::string& name, const std::string& t0_path, c
 
 /// A cache laid out as the bundled sample (cloth.pc2, cloth_rest.obj,
 /// body.pc2, body_rest.obj in `sample_dir`; scripts/bake_cloth_cache.py writes
-/// the same) through io::open_cache, named `name`: `steps` + 1 frames from
-/// frame `first` (0-based), or all from `first` when `steps` is 0. Throws
-/// InputError for bad files.
-BenchScene load_sample(const std::string& name, const std::string& sample_dir, std::size_t first, std::size_t steps);
+/// the same) through io::open_cache, named `name`: the frames `frames`
+/// selects. Throws InputError for bad files.
+BenchScene load_sample(const std::string& name, const std::string& sample_dir, const io::FrameSelection& frames);
 
 }  // namespace snag::bench

@@ -215,13 +215,14 @@ int main(int argc, char** argv) {
   std::string data_dir = SNAG_SHARED_DATA_DIR, samples_dir = SNAG_SAMPLES_DIR, json_path;
   std::vector<std::vector<std::string>> extra_scenes;
   std::vector<std::string> caches;
-  std::size_t sample_steps = 0, first_frame = 0, brute_force_limit = 20000;
+  std::size_t sample_steps = 0, brute_force_limit = 20000;
+  std::string cache_frames = "0:";
   bool no_cloth_ball = false, no_samples = false;
   MeasureSettings settings;
   app.add_option("--data", data_dir, "shared data directory (meshes/cloth_ball92.ply, cloth_ball93.ply)");
   app.add_option("--samples", samples_dir, "the sample cache directory (cloth.pc2, cloth_rest.obj, body.pc2, body_rest.obj)");
-  app.add_option("--sample-steps", sample_steps, "steps of the sample cache and of each --cache to use (0 = all)");
-  app.add_option("--first-frame", first_frame, "first frame (0-based) of the sample cache and of each --cache");
+  app.add_option("--sample-steps", sample_steps, "steps of the sample cache to use (0 = all)");
+  app.add_option("--cache-frames", cache_frames, "frames of each --cache: A:B (0-based, inclusive) or A:");
   app.add_option("--scene", extra_scenes, "another scene: two frames of one topology (t0 t1)")->expected(2);
   app.add_option("--cache", caches,
                  "another cache laid out as the sample (scripts/bake_cloth_cache.py writes one); repeatable")
@@ -259,14 +260,16 @@ int main(int argc, char** argv) {
       report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
     }
     if (!no_samples) {
-      const BenchScene scene = snag::bench::load_sample("samples", samples_dir, first_frame, sample_steps);
+      snag::io::FrameSelection frames;
+      if (sample_steps > 0) frames.last = sample_steps;
+      const BenchScene scene = snag::bench::load_sample("samples", samples_dir, frames);
       report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
     }
     for (const std::string& dir : caches) {
       std::string name = dir;
       while (name.size() > 1 && name.back() == '/') name.pop_back();
       name = name.substr(name.find_last_of('/') + 1);
-      const BenchScene scene = snag::bench::load_sample(name, dir, first_frame, sample_steps);
+      const BenchScene scene = snag::bench::load_sample(name, dir, snag::io::parse_frame_selection(cache_frames));
       report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
     }
     for (std::size_t i = 0; i < extra_scenes.size(); ++i) {

@@ -43,7 +43,7 @@ float float_at_least(double x) {
 /// order) do not depend on the thread count.
 constexpr std::size_t kBlock = 256;
 
-/// Registrations box-tested before the overlapping ones are handled.
+/// Registrations tested before their candidates' DOPs are.
 constexpr int kChunk = 64;
 
 }  // namespace
@@ -127,19 +127,22 @@ void BoxGridBroadPhase::register_boxes() {
   const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
   const std::size_t registrations = first_registration_[n];
   cell_first_.assign(cells + 1, 0);
+  // visit(cell, lowest_along bits) for every cell of triangle t's box.
   auto for_each_cell = [&](std::size_t t, auto&& visit) {
-    for (std::uint32_t z = cell_lo_[2][t]; z <= cell_hi_[2][t]; ++z)
-      for (std::uint32_t y = cell_lo_[1][t]; y <= cell_hi_[1][t]; ++y)
-        for (std::uint32_t x = cell_lo_[0][t]; x <= cell_hi_[0][t]; ++x)
-          visit(std::size_t(x) + std::size_t(dims_[0]) * (std::size_t(y) + std::size_t(dims_[1]) * z));
+    const std::uint32_t lo_x = cell_lo_[0][t], lo_y = cell_lo_[1][t], lo_z = cell_lo_[2][t];
+    for (std::uint32_t z = lo_z; z <= cell_hi_[2][t]; ++z)
+      for (std::uint32_t y = lo_y; y <= cell_hi_[1][t]; ++y)
+        for (std::uint32_t x = lo_x; x <= cell_hi_[0][t]; ++x)
+          visit(std::size_t(x) + std::size_t(dims_[0]) * (std::size_t(y) + std::size_t(dims_[1]) * z),
+                std::uint32_t(x == lo_x) | std::uint32_t(y == lo_y) << 1 | std::uint32_t(z == lo_z) << 2);
   };
-  // Counting sort by cell, in parallel: counts and cursors by atomic adds,
-  // then each cell's triangles sorted by id, so that the order does not
-  // depend on the thread schedule.
+  // Counting sort by cell, in parallel: counts and cursors by atomic adds.
+  // The order within a cell depends on the thread schedule; the output does
+  // not (each triangle's partners are sorted).
   auto atomic_add = [](std::uint64_t& counter) { return __atomic_fetch_add(&counter, 1, __ATOMIC_RELAXED); };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     for (std::size_t t = range.begin(); t != range.end(); ++t)
-      for_each_cell(t, [&](std::size_t c) { atomic_add(cell_first_[c + 1]); });
+      for_each_cell(t, [&](std::size_t c, std::uint32_t) { atomic_add(cell_first_[c + 1]); });
   });
   std::size_t used = 0;
   for (std::size_t c = 0; c < cells; ++c) {
@@ -157,15 +160,11 @@ void BoxGridBroadPhase::register_boxes() {
         box.hi[a] = float_at_least(dops[t].hi[a]);
       }
       box.triangle = static_cast<Index>(t);
-      box.unused = 0;
-      for_each_cell(t, [&](std::size_t c) { members_[atomic_add(next[c])] = box; });
+      for_each_cell(t, [&](std::size_t c, std::uint32_t lowest_along) {
+        box.lowest_along = lowest_along;
+        members_[atomic_add(next[c])] = box;
+      });
     }
-  });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 4096), [&](const auto& range) {
-    for (std::size_t c = range.begin(); c != range.end(); ++c)
-      std::sort(members_.begin() + static_cast<std::ptrdiff_t>(cell_first_[c]),
-                members_.begin() + static_cast<std::ptrdiff_t>(cell_first_[c + 1]),
-                [](const Member& p, const Member& q) { return p.triangle < q.triangle; });
   });
   stats_.cells_used = used;
   stats_.registrations = registrations;
@@ -209,30 +208,31 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
         for (std::uint32_t y = ay; y <= cell_hi_y[a]; ++y) {
           for (std::uint32_t x = ax; x <= cell_hi_x[a]; ++x) {
             const std::size_t c = x + dim_x * (y + dim_y * z);
-            // A cell lists its triangles by increasing id: start after a.
+            // The pair is kept only in the cell of the low corner of the
+            // boxes' intersection, max(a's lowest cell, b's) along each
+            // axis: along an axis where this cell is above a's lowest, it
+            // must be b's lowest.
+            const std::uint32_t need =
+                std::uint32_t(x != ax) | std::uint32_t(y != ay) << 1 | std::uint32_t(z != az) << 2;
             const Member* k = members + cell_first[c];
             const Member* k_end = members + cell_first[c + 1];
-            while (k != k_end && k->triangle <= a) ++k;
-            tests += static_cast<std::size_t>(k_end - k);
             while (k != k_end) {
-              // Box tests without branches (about half overlap: a branch
-              // would mispredict), the overlapping ones compacted.
+              // Tests without branches (a branch would often mispredict),
+              // the candidates compacted, then their DOPs tested.
               const Member* chunk_end = k + std::min<std::ptrdiff_t>(kChunk, k_end - k);
-              std::uint32_t overlapping[kChunk];
+              Index candidates[kChunk];
               int count = 0;
               for (const Member* m = k; m != chunk_end; ++m) {
-                const bool apart = (m->lo[0] > hi_x) | (m->hi[0] < lo_x) | (m->lo[1] > hi_y) | (m->hi[1] < lo_y) |
-                                   (m->lo[2] > hi_z) | (m->hi[2] < lo_z);
-                overlapping[count] = m->triangle;
-                count += !apart;
+                const bool skip = (m->triangle <= a) | ((m->lowest_along & need) != need) | (m->lo[0] > hi_x) |
+                                  (m->hi[0] < lo_x) | (m->lo[1] > hi_y) | (m->hi[1] < lo_y) | (m->lo[2] > hi_z) |
+                                  (m->hi[2] < lo_z);
+                candidates[count] = m->triangle;
+                count += !skip;
               }
+              tests += static_cast<std::size_t>(chunk_end - k);
               k = chunk_end;
               for (int h = 0; h < count; ++h) {
-                const Index b = overlapping[h];
-                // Only in the cell of the low corner of the boxes' intersection.
-                if (x != std::max(ax, cell_lo_x[b]) || y != std::max(ay, cell_lo_y[b]) ||
-                    z != std::max(az, cell_lo_z[b]))
-                  continue;
+                const Index b = candidates[h];
                 if (dop_overlap(da, dops[b]))
                   out.push_back({a, b});
                 else

@@ -4,14 +4,15 @@
 //   1. 18-DOPs of the triangles (static, or swept over the step), whose axis
 //      slabs are the boxes;
 //   2. a uniform grid over the boxes; each triangle is registered in every
-//      cell its box overlaps (a counting sort by cell, so each cell lists its
-//      triangles in id order, each with its box rounded outwards to floats,
-//      so that a cell's scan streams 32 bytes per triangle);
+//      cell its box overlaps (a parallel counting sort by cell), with its box
+//      rounded outwards to floats and three bits saying whether the cell is
+//      the box's lowest along each axis, so that a cell's scan streams 32
+//      bytes per triangle and needs nothing else;
 //   3. for each triangle a, in parallel over fixed blocks of triangles, the
-//      cells of its box are scanned for triangles b > a whose boxes overlap
-//      a's; the pair is kept only in the cell that holds the low corner of
-//      the two boxes' intersection (so it is found once, without a sort and
-//      unique), and only when the two 18-DOPs overlap;
+//      cells of its box are scanned, without branches, for triangles b > a
+//      whose boxes overlap a's, keeping the pair only in the cell that holds
+//      the low corner of the two boxes' intersection (so it is found once,
+//      without a sort and unique); then the 18-DOPs of those are tested;
 //   4. a's partners are sorted (a handful) and the blocks concatenated in
 //      order, so the output is sorted and the same for every thread count.
 // The cell size is 1.5 times the mean box extent, grown until the grid has at
@@ -79,7 +80,8 @@ class BoxGridBroadPhase : public BroadPhase {
   struct Member {
     float lo[3], hi[3];
     Index triangle;
-    std::uint32_t unused;
+    /// Bit k: this cell is the lowest of the triangle's cells along axis k.
+    std::uint32_t lowest_along;
   };
   std::vector<Member> members_;  ///< registrations in cell order
   // Output blocks, one per fixed range of triangles.

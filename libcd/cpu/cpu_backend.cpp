@@ -1,6 +1,7 @@
-// The CPU back end: the virtual subdivision grid broad phase, then the
-// conservative floating-point CCD filter and the exact-sign static test on all
-// cores, then exact certification of the answers the filter left uncertain.
+// The CPU back end: the box grid broad phase (or another, cpu_backend.hpp),
+// then the conservative floating-point CCD filter and the exact-sign static
+// test on all cores, then exact certification of the answers the filter left
+// uncertain.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -10,6 +11,7 @@
 #include <chrono>
 
 #include "libcd/core/error.hpp"
+#include "libcd/cpu/cpu_backend.hpp"
 #include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/event_builder.hpp"
@@ -24,6 +26,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 class CpuBackend final : public Backend {
  public:
+  explicit CpuBackend(const CpuBackendOptions& options) : options_(options) {}
   std::string name() const override { return "cpu"; }
 
   void bind(const Scene& scene, const BackendSettings& settings) override {
@@ -34,8 +37,8 @@ class CpuBackend final : public Backend {
     broad.lambda = settings.lambda;
     broad.thickness = settings.thickness;
     broad.threads = settings.threads;
-    ccd_broad_ = make_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
-    static_broad_ = make_broad_phase(BroadPhaseMethod::kBoxGrid);
+    ccd_broad_ = make_broad_phase(options_.broad_phase);
+    static_broad_ = make_broad_phase(options_.broad_phase);
     ccd_broad_->build(scene, broad);
     BroadPhaseSettings static_settings = broad;
     static_settings.thickness = 0;
@@ -69,6 +72,7 @@ class CpuBackend final : public Backend {
       const auto& triangles = scene_->triangles();
       std::vector<unsigned char> hit(pairs_.size(), 0);
       tbb::enumerable_thread_specific<PredicateCounters> counters;
+      const bool filter = options_.projection_filter;
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 256), [&](const auto& range) {
         PredicateCounters& local = counters.local();
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -78,7 +82,7 @@ class CpuBackend final : public Backend {
           const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
           // Neighbours on a smooth surface are nearly coplanar: their 3D
           // plane-side signs need the exact stage, their 2D signs do not.
-          hit[i] = !triangles_separated_in_projection(a, ta.data(), b, tb.data(), &local) &&
+          hit[i] = !(filter && triangles_separated_in_projection(a, ta.data(), b, tb.data(), &local)) &&
                    triangles_intersect(a, ta.data(), b, tb.data(), &local);
         }
       });
@@ -127,6 +131,7 @@ class CpuBackend final : public Backend {
         seconds_since(events_start) - (stats_.narrow.seconds_certify - certify_before);
   }
 
+  const CpuBackendOptions options_;
   const Scene* scene_ = nullptr;
   BackendSettings settings_;
   std::unique_ptr<BroadPhase> ccd_broad_, static_broad_;
@@ -139,6 +144,10 @@ class CpuBackend final : public Backend {
 
 }  // namespace
 
-std::unique_ptr<Backend> make_cpu_backend() { return std::make_unique<CpuBackend>(); }
+std::unique_ptr<Backend> make_cpu_backend(const CpuBackendOptions& options) {
+  return std::make_unique<CpuBackend>(options);
+}
+
+std::unique_ptr<Backend> make_cpu_backend() { return make_cpu_backend(CpuBackendOptions{}); }
 
 }  // namespace snag

@@ -1,0 +1,26 @@
+// The CPU back end with a chosen broad phase and static test, for
+// comparisons count for count with another back end. make_cpu_backend()
+// (pipeline/backend.hpp) is this with the defaults: the box grid
+// (broad_phase/box_grid.hpp), which suits CPUs, for CCD and static
+// detection, and the 2D exact-sign filter in front of the static triangle
+// test (triangles_separated_in_projection). The events are the same with any
+// options; candidate and predicate counts are not.
+#pragma once
+
+#include <memory>
+
+#include "libcd/broad_phase/broad_phase.hpp"
+#include "libcd/pipeline/backend.hpp"
+
+namespace snag {
+
+struct CpuBackendOptions {
+  BroadPhaseMethod broad_phase = BroadPhaseMethod::kBoxGrid;  ///< for CCD and static detection
+  bool projection_filter = true;  ///< the 2D exact-sign filter before each static triangle test
+};
+
+/// The CPU back end with `options`. The CUDA back end's counts are those of
+/// {kVirtualSubdivisionGrid, false}.
+std::unique_ptr<Backend> make_cpu_backend(const CpuBackendOptions& options);
+
+}  // namespace snag
