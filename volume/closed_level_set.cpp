@@ -1,70 +1,90 @@
 #include "volume/closed_level_set.hpp"
 
-#include <openvdb/tools/MeshToVolume.h>
+#include <algorithm>
+#include <cmath>
 
-#include <unordered_map>
+#include "volume/point_triangle_distance.hpp"
 
 namespace snag::volume {
 
-void mesh_near_box(const TriangleMesh& mesh, const Box& box, std::vector<openvdb::Vec3s>& points,
-                   std::vector<openvdb::Vec3I>& triangles) {
-  points.clear();
-  triangles.clear();
-  std::unordered_map<Index, openvdb::Index32> local;
-  auto point_of = [&](Index v) {
-    auto [it, added] = local.emplace(v, static_cast<openvdb::Index32>(points.size()));
-    if (added) {
-      const Vec3& p = mesh.vertices[v];
-      points.emplace_back(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
-    }
-    return it->second;
-  };
+namespace {
+
+// Squared distances (scene units squared) to the triangles of `mesh`, on
+// every voxel of `box`, exact where below band^2 and band^2 elsewhere; x
+// varies fastest. OpenVDB's meshToUnsignedDistanceField computes the same
+// band but its set-up alone took 0.12 s for 5,120 triangles on 87,000 voxels
+// (longer than CGAL's whole corefinement of the pair); boxes here are small
+// and dense, so a plain loop over each triangle's voxels does.
+std::vector<float> squared_distances(const TriangleMesh& mesh, const VoxelBox& box, double band) {
+  const double h = box.voxel_size;
+  const openvdb::Coord lo = box.coords.min(), dim = box.coords.dim();
+  const float far = static_cast<float>(band * band);
+  std::vector<float> d2(static_cast<std::size_t>(dim.x()) * dim.y() * dim.z(), far);
+  const Box reach = grown(world_box(box), band);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    if (!overlaps(triangle_box(mesh, t), box)) continue;
+    const Box tb = triangle_box(mesh, t);
+    if (!overlaps(tb, reach)) continue;
     const Triangle& f = mesh.triangles[t];
-    triangles.emplace_back(point_of(f[0]), point_of(f[1]), point_of(f[2]));
+    const Vec3 a = mesh.vertices[f[0]], b = mesh.vertices[f[1]], c = mesh.vertices[f[2]];
+    const Vec3 normal = cross(b - a, c - a);
+    const double normal_length = std::sqrt(squared_norm(normal));
+    int from[3], to[3];
+    for (int i = 0; i < 3; ++i) {
+      from[i] = std::max(lo[i], static_cast<int>(std::ceil((tb.lo[i] - band) / h)));
+      to[i] = std::min(lo[i] + dim[i] - 1, static_cast<int>(std::floor((tb.hi[i] + band) / h)));
+    }
+    for (int k = from[2]; k <= to[2]; ++k) {
+      for (int j = from[1]; j <= to[1]; ++j) {
+        const std::size_t row = (static_cast<std::size_t>(k - lo[2]) * dim.y() + (j - lo[1])) * dim.x();
+        for (int i = from[0]; i <= to[0]; ++i) {
+          const Vec3 p{i * h, j * h, k * h};
+          // Far from the triangle's plane: far from the triangle.
+          if (normal_length > 0 && std::abs(dot(p - a, normal)) >= band * normal_length) continue;
+          float& slot = d2[row + (i - lo[0])];
+          const double distance2 = squared_distance_to_triangle(p, a, b, c);
+          if (distance2 < slot) slot = static_cast<float>(distance2);
+        }
+      }
+    }
   }
+  return d2;
 }
+
+}  // namespace
 
 openvdb::FloatGrid::Ptr closed_level_set(const TriangleMesh& mesh, const WindingColumns& winding, const VoxelBox& box,
                                          float half_width) {
   const double h = box.voxel_size;
-  const float background = static_cast<float>(half_width * h);
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> triangles;
-  mesh_near_box(mesh, grown(world_box(box), (half_width + 1) * h), points, triangles);
-  openvdb::FloatGrid::Ptr grid;
-  if (triangles.empty()) {
-    grid = openvdb::FloatGrid::create(background);
-    grid->setTransform(voxel_transform(h));
-  } else {
-    grid = openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(*voxel_transform(h), points, triangles, {},
-                                                                           half_width);
-  }
-  grid->tree().clip(box.coords);
+  const double band = half_width * h;
+  const float background = static_cast<float>(band);
+  const std::vector<float> d2 = squared_distances(mesh, box, band);
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
+  grid->setTransform(voxel_transform(h));
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
 
-  // The sign, one line of voxels at a time.
+  // Distances in the band, and the sign, one line of voxels at a time.
   auto accessor = grid->getAccessor();
   std::vector<Crossing> line;
-  const openvdb::Coord lo = box.coords.min(), hi = box.coords.max();
+  const openvdb::Coord lo = box.coords.min(), hi = box.coords.max(), dim = box.coords.dim();
+  const float far = static_cast<float>(band * band);
   for (openvdb::Int32 k = lo.z(); k <= hi.z(); ++k) {
     for (openvdb::Int32 j = lo.y(); j <= hi.y(); ++j) {
       winding.crossings(j * h, k * h, line);
-      if (line.empty()) continue;
       // Crossings beyond x, summed: walk x upwards, dropping crossings passed.
       int beyond = 0;
       for (const Crossing& c : line) beyond += c.sign;
       std::size_t next = 0;
+      const std::size_t row = (static_cast<std::size_t>(k - lo.z()) * dim.y() + (j - lo.y())) * dim.x();
       for (openvdb::Int32 i = lo.x(); i <= hi.x(); ++i) {
         const double x = i * h;
         while (next < line.size() && line[next].x <= x) beyond -= line[next++].sign;
-        if (beyond < 1) continue;
+        const bool inside = beyond >= 1;
+        const float squared = d2[row + (i - lo.x())];
         const openvdb::Coord ijk(i, j, k);
-        float value;
-        if (accessor.probeValue(ijk, value)) {
-          accessor.setValue(ijk, -value);
-        } else {
+        if (squared < far) {
+          const float distance = std::sqrt(squared);
+          accessor.setValueOn(ijk, inside ? -distance : distance);
+        } else if (inside) {
           accessor.setValueOff(ijk, -background);
         }
       }
