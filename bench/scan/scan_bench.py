@@ -54,6 +54,8 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "bench", "report"))
+from report_bench import trailer  # noqa: E402  (the report's last record)
 BACKEND_STAGES = ["ccd_broad", "ccd_narrow", "certification", "static_broad", "static_narrow"]
 STAGES = ["read"] + BACKEND_STAGES + ["report_wait"]
 
@@ -107,12 +109,6 @@ def run_scan(command, sample_device=False):
             err.seek(0)
             sys.exit(f"scan_bench: {' '.join(command)} failed ({code}): {err.read().strip()}")
     return usage.ru_maxrss / 1024, device
-
-
-def trailer(path):
-    with open(path, "rb") as report:
-        report.seek(max(0, os.path.getsize(path) - (1 << 20)))
-        return json.loads(report.read().splitlines()[-1])
 
 
 def stage_seconds(t):
