@@ -56,7 +56,9 @@ rm -f "$bundle/pmix2/lib/libpmix.a"
 
 # Plugins whose libraries are for networks between hosts are left out.
 needs_network_library() {
-  ldd "$1" 2>/dev/null | grep -Eq 'libuc[pst]|libfabric|libpsm|libibverbs|librdmacm|libjvm|libnl-|libmunge|libslurm'
+  local libraries
+  libraries=$(ldd "$1" 2>/dev/null || true)  # whole, before grep: grep -q would end ldd early (pipefail)
+  grep -Eq 'libuc[pst]|libfabric|libpsm|libibverbs|librdmacm|libjvm' <<<"$libraries"
 }
 for plugin in "$bundle/ompi/$multiarch/openmpi/lib/openmpi3/"*.so "$bundle/ompi/$multiarch/openmpi/lib/"*.so; do
   if needs_network_library "$plugin"; then rm -f "$plugin"; fi

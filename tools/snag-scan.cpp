@@ -307,7 +307,11 @@ int main(int argc, char** argv) {
                  "Scan every scene of LIST (a manifest or cache input a line), each into DIR/NAME.jsonl\n"
                  "(--report DIR), and list the reports in DIR/batch.txt; under mpirun spread over the ranks")
       ->type_name("LIST");
+#if SNAG_HAVE_MPI
+  if (int code = snag::tools::mpi::parse_command_line_on_every_rank(app, argc, argv); code >= 0) return code;
+#else
   if (int code = snag::tools::parse_command_line(app, argc, argv); code >= 0) return code;
+#endif
 
   // Under mpirun every rank runs this (tools/common/mpi_scan.hpp): a scan
   // splits its steps over the ranks, a batch its scenes.

@@ -162,5 +162,15 @@ TEST(SnagScanMpi, BatchWithABadSceneFailsWithTheRankAndNoSummary) {
   EXPECT_FALSE(std::filesystem::exists(dir.path("out/broken.jsonl")));
 }
 
+// Every rank parses the command line; only rank 0 says what is wrong with it.
+TEST(SnagScanMpi, UsageErrorIsPrintedOnce) {
+  const ProcessResult run = mpirun(2, {"--no-such-option"});
+  EXPECT_EQ(run.exit_code, 2);
+  const std::string message = "--no-such-option";
+  const std::size_t first = run.err.find(message);
+  ASSERT_NE(first, std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find(message, first + 1), std::string::npos) << run.err;
+}
+
 }  // namespace
 }  // namespace snag::test

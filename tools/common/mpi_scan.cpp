@@ -1,5 +1,6 @@
 #include "tools/common/mpi_scan.hpp"
 
+#include <fcntl.h>
 #include <mpi.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -14,6 +15,7 @@
 
 #include "libcd/core/error.hpp"
 #include "snag/config.hpp"
+#include "tools/common/cli.hpp"
 #include "tools/common/run_tool.hpp"
 #include "tools/common/scan_stats.hpp"
 #include "tools/common/stages_merge.hpp"
@@ -101,6 +103,29 @@ bool launched_by_mpirun() {
     if (std::getenv(name)) return true;
   }
   return false;
+}
+
+int parse_command_line_on_every_rank(CLI::App& app, int argc, char** argv) {
+  bool other_rank = false;
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"}) {
+    if (const char* rank = std::getenv(name)) {
+      other_rank = std::strcmp(rank, "0") != 0;
+      break;
+    }
+  }
+  if (!other_rank) return parse_command_line(app, argc, argv);
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const int out = dup(STDOUT_FILENO), err = dup(STDERR_FILENO), null = open("/dev/null", O_WRONLY);
+  dup2(null, STDOUT_FILENO);
+  dup2(null, STDERR_FILENO);
+  const int code = parse_command_line(app, argc, argv);
+  std::fflush(stdout);
+  std::fflush(stderr);
+  dup2(out, STDOUT_FILENO);
+  dup2(err, STDERR_FILENO);
+  for (int fd : {out, err, null}) close(fd);
+  return code;
 }
 
 Run::Run(int* argc, char*** argv) {

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "libcd/pipeline/scan.hpp"
 #include "report/scan_part.hpp"
 #include "tools/common/range_scan.hpp"
@@ -22,6 +24,11 @@ namespace snag::tools::mpi {
 
 /// Whether this process was started by mpirun (Open MPI's or a PMI launcher's).
 bool launched_by_mpirun();
+
+/// cli.hpp's parse_command_line() on every rank, before MPI starts: ranks
+/// other than 0 (as the launcher says) print nothing, so that a usage error
+/// or --help comes once, not once per rank.
+int parse_command_line_on_every_rank(CLI::App& app, int argc, char** argv);
 
 /// The run's ranks, and the messages that end them. Made once per process:
 /// initialises MPI and finalises it when destroyed.
