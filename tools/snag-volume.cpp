@@ -29,7 +29,8 @@ namespace rp = snag::report;
 namespace vol = snag::volume;
 
 struct VolumeOptions {
-  std::string report, output, vdb_directory, frames;
+  std::string report, output, vdb_directory;
+  std::string frames;  ///< --frames: the cache frames whose regions are measured
   double voxel_size = 0;
   bool quiet = false;
 };
@@ -193,29 +194,11 @@ int main(int argc, char** argv) {
   VolumeOptions options;
   snag::tools::CacheArguments cache;
   app.add_option("report", options.report, "The scan report (JSON Lines, snag-report(5))")->required()->type_name("REPORT");
-  app.add_option("cache", cache.inputs,
-                 "The report's cache, in the scan's order (a mesh file, pattern, glob, directory, point cache or\n"
-                 "animated file); the report's frame selection and weld apply")
-      ->required()
-      ->type_name("CACHE");
-  app.add_option("-t,--topology", cache.topologies, "Topology mesh of each point cache input, in order")
-      ->type_name("MESH")
-      ->allow_extra_args(false)
-      ->take_all();
-  app.add_option("-n,--name", cache.names, "Object name of each input, in order (as given to snag-scan)")
-      ->type_name("NAME")
-      ->allow_extra_args(false)
-      ->take_all();
-  app.add_flag("-s,--sequence", cache.sequence, "The cache inputs are the frames of one mesh sequence");
-  app.add_option("--fps", cache.sample_rate, "Animated files: samples per second, as given to snag-scan")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--start", cache.start_time, "Animated files: first sample time in seconds, as given to snag-scan")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--end", cache.end_time, "Animated files: last sample time in seconds, as given to snag-scan")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("-f,--frames", options.frames,
-                 "Measure the regions of these cache frames only: A:B, A:B:STEP, A: or A (default: all)")
-      ->type_name("A:B");
+  // The cache inputs and their options as every tool takes them; --frames
+  // picks the frames to measure (the cache is read with the report's selection).
+  snag::tools::add_cache_options(app, cache);
+  app.get_option("--frames")->description("Measure the regions of these cache frames only: A:B, A:B:STEP, A: or A (default: all)");
+  app.remove_option(app.get_option("--weld"));  // the report's weld applies
   app.add_option("--voxel-size", options.voxel_size,
                  "Voxel size in scene units (default: per region, half the mean edge length of its faces and at\n"
                  "most a sixteenth of its box)")
@@ -230,5 +213,9 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", options.quiet, "Print nothing but errors");
   if (int code = snag::tools::parse_command_line(app, argc, argv); code >= 0) return code;
 
-  return snag::tools::run_tool("snag-volume", [&] { return run(options, cache); });
+  return snag::tools::run_tool("snag-volume", [&] {
+    options.frames = cache.frames;
+    cache.frames.clear();
+    return run(options, cache);
+  });
 }
