@@ -80,7 +80,6 @@ int run_bench(const snag::tools::CacheArguments& cache, const BenchOptions& opti
     settings.threads = options.threads;
     settings.repeats = results.repeats;
     settings.brute_force_max_triangles = options.brute_force_max_triangles;
-    if (options.quick) settings.depth_caps = {1};
     const std::filesystem::path first(cache.inputs.front());
     const std::string name = (first.parent_path().filename() / first.stem()).string();
     results.scenes.push_back(bench::benchmark_scene(*source, name, settings));
@@ -118,11 +117,14 @@ int main(int argc, char** argv) {
       "A scene: the cache inputs as for snag-scan (mesh files, patterns, globs, directories, point caches with\n"
       "--topology, animated files; --sequence t0.ply t1.ply for a two-frame step)");
   app.add_option("--queries", options.queries,
-                 "A CCD query folder or tree with exact ground truth (repeatable)")->type_name("DIR");
+                 "A CCD query folder or tree with exact ground truth (repeatable)")
+      ->type_name("DIR")
+      ->allow_extra_args(false);
   app.add_flag("--quick", options.quick, "Few samples, one timed pass, one step of the scene (CI)");
   app.add_option("--families", options.families, "Only these stability families (default: all)")
       ->delimiter(',')
-      ->type_name("LIST");
+      ->type_name("LIST")
+      ->allow_extra_args(false);
   app.add_flag("--no-families", options.no_families, "Leave out the generated stability families");
   app.add_option("--samples", options.samples, "Queries per knob value of each family (default 100, --quick 20)")
       ->check(CLI::Range(1, 100000));

@@ -89,7 +89,8 @@ TEST(SnagBenchQuick, MeetsTheAccuracyContractAndTheCubicDoesNot) {
   limits.timeout_seconds = 120;
   const ProcessResult run =
       run_process(SNAG_BENCH_EXE,
-                  {"--quick", "--queries", kQueries, "--sequence", kThickCloth + "t0.ply", kThickCloth + "t1.ply",
+                  // The cache inputs right after --queries DIR: that option takes one value.
+                  {"--quick", "--sequence", "--queries", kQueries, kThickCloth + "t0.ply", kThickCloth + "t1.ply",
                    "--threads", "2", "--json", dir.path("q.json")},
                   limits);
   ASSERT_EQ(run.exit_code, 0) << run.err;

@@ -131,7 +131,7 @@ void print_counts_row(std::FILE* out, const std::string& set, const char* kind, 
                       std::size_t queries) {
   for (CcdMethod method : kCcdMethods) {
     const MethodCounts& c = all[static_cast<int>(method)];
-    std::fprintf(out, "%-28s %-3s %-13s %7zu %7zu %7zu %9zu %11.2f\n", set.c_str(), kind, method_id(method), queries,
+    std::fprintf(out, "%-36s %-3s %-13s %7zu %7zu %7zu %9zu %11.2f\n", set.c_str(), kind, method_id(method), queries,
                  c.false_negatives, c.false_positives, c.uncertain, micros_per_query(c, queries));
   }
 }
@@ -167,7 +167,7 @@ bool exact_methods_agree(const BenchResults& results) {
 
 void print_bench_summary(std::FILE* out, const BenchResults& results) {
   if (!results.query_sets.empty() || !results.scenes.empty()) {
-    std::fprintf(out, "%-28s %-3s %-13s %7s %7s %7s %9s %11s\n", "data set", "kind", "method", "queries", "FN", "FP",
+    std::fprintf(out, "%-36s %-3s %-13s %7s %7s %7s %9s %11s\n", "data set", "kind", "method", "queries", "FN", "FP",
                  "uncertain", "us/query");
   }
   for (const QuerySetBenchmark& set : results.query_sets)
@@ -203,14 +203,14 @@ void print_bench_summary(std::FILE* out, const BenchResults& results) {
     std::fprintf(out, "  heavy:    %zu complete candidates, all exact; %.3f s broad + %.3f s narrow\n",
                  s.complete_candidates, s.heavy_broad_seconds, s.heavy_narrow_seconds);
     std::fprintf(out, "  same answers: %s\n", s.same_answers ? "yes" : "NO");
-    std::fprintf(out, "  %-24s %12s %11s %8s %7s %9s %12s %9s %6s\n", "broad phase", "tests", "candidates", "cells",
+    std::fprintf(out, "  %-30s %12s %11s %8s %7s %9s %12s %9s %6s\n", "broad phase", "tests", "candidates", "cells",
                  "levels", "halvings", "memory (B)", "seconds", "missed");
     for (const BroadPhaseRun& run : s.broad_phases) {
       if (run.skipped) {
-        std::fprintf(out, "  %-24s skipped (more than --brute-force-max-triangles)\n", run.name.c_str());
+        std::fprintf(out, "  %-30s skipped (more than --brute-force-max-triangles)\n", run.name.c_str());
         continue;
       }
-      std::fprintf(out, "  %-24s %12zu %11zu %8zu %7zu %9zu %12zu %9.4f %6zu\n", run.name.c_str(), run.tests,
+      std::fprintf(out, "  %-30s %12zu %11zu %8zu %7zu %9zu %12zu %9.4f %6zu\n", run.name.c_str(), run.tests,
                    run.candidates, run.cells_used, run.levels_used, run.time_halvings, run.memory_bytes, run.seconds,
                    run.missed);
     }
