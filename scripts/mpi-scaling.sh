@@ -45,7 +45,14 @@ def measured_out(path):
     trailer = text.rindex('{"record":"trailer"')
     timing = text.index(',"timing":', trailer)
     return text[:trailer] + re.sub(r'"peak_memory_bytes":[0-9]+', '"peak_memory_bytes":N', text[trailer:timing])
-print("yes" if measured_out(sys.argv[1]) == measured_out(sys.argv[2]) else "NO")
+a, b = measured_out(sys.argv[1]), measured_out(sys.argv[2])
+if a == b:
+    print("yes")
+else:  # where they part, for the log
+    lines = [(n, x, y) for n, (x, y) in enumerate(zip(a.split("\n"), b.split("\n")), 1) if x != y]
+    n, x, y = lines[0] if lines else (0, "", "")
+    print(f"NO (line {n}: {x[:300]} | {y[:300]})", file=sys.stderr)
+    print("NO")
 PY
 }
 
@@ -53,7 +60,8 @@ PY
 libraries=$here/ompi/lib/x86_64-linux-gnu/openmpi/lib:$here/pmix2/lib:$here/lib
 one=$(seconds env LD_LIBRARY_PATH="$libraries" "$here/bin/snag-scan" "${inputs[@]}" -r "$work/one.jsonl") || exit 1
 python3 -c "import json; t=json.loads(open('$work/one.jsonl').readlines()[-1]); s=t['summary'];
-print('one process: %s s; %d events, %d regions, %d tracks; report %.2f s of it' % ('$one', s['events'], s['regions'], s['tracks'], t['timing']['report']))"
+h=json.loads(open('$work/one.jsonl').readline())
+print('one process (%s): %s s; %d events, %d regions, %d tracks; report %.2f s of it' % (h['settings']['backend'], '$one', s['events'], s['regions'], s['tracks'], t['timing']['report']))"
 printf '%-6s %10s %9s %11s %10s\n' ranks seconds speed-up efficiency identical
 for k in "${ranks[@]}"; do
   t=$(seconds "$here/mpi-run.sh" -n "$k" --bind-to none "$here/bin/snag-scan" "${inputs[@]}" -r "$work/$k.jsonl") || exit 1
