@@ -31,6 +31,18 @@ void rotate(CcdQueryPoints& q, Rng& rng) {
   }
 }
 
+/// Tilts the plane z = 0 without rounding: x and y are moved to multiples of
+/// 2^-20, then z += x / 2 + y / 4, exact in doubles for |x|, |y| < 2^30.
+/// The map is affine, so what touches still touches (a contact exactly in
+/// the plane stays exact) and what is apart by the knob stays about as far.
+void tilt(CcdQueryPoints& q) {
+  for (Vec3& p : q.points) {
+    p.x = std::round(std::ldexp(p.x, 20)) / (1 << 20);
+    p.y = std::round(std::ldexp(p.y, 20)) / (1 << 20);
+    p.z += p.x / 2 + p.y / 4;
+  }
+}
+
 /// A static triangle near the unit right triangle of the plane z = 0.
 void static_triangle(CcdQueryPoints& q, Rng& rng) {
   q.points[1] = {uniform(rng, -0.1, 0), uniform(rng, -0.05, 0.05), 0};
@@ -125,7 +137,8 @@ CcdQueryPoints vf_grazing(double knob, Rng& rng) {
   const double z = random_sign_or_zero(rng) * knob, y = uniform(rng, 0.1, 0.4);
   q.points[0] = {-0.5, y, z};
   q.points[4] = {1.5, y + uniform(rng, -0.1, 0.1), z};
-  return q;  // not rotated: in the plane z = 0 the touching case stays exact
+  tilt(q);  // not rotated: the touching case must stay exact
+  return q;
 }
 
 // Edge b crosses over edge a parallel to the plane of both, `knob` above
@@ -138,7 +151,8 @@ CcdQueryPoints ee_grazing(double knob, Rng& rng) {
   q.points[3] = {x + uniform(rng, -0.2, 0.2), -0.5, z};
   q.points[6] = {x, 0.5, z};
   q.points[7] = {q.points[3].x, 1, z};
-  return q;  // not rotated: at z = 0 the touching case stays exact
+  tilt(q);  // not rotated: the touching case must stay exact
+  return q;
 }
 
 // The vertex moves by `knob` only, across the triangle's plane or beside it
