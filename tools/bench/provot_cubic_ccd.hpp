@@ -206,8 +206,14 @@ bool cubic_ccd(const std::array<Vec3, 8>& points, bool edge_edge) {
   std::array<Point3<T>, 8> x;
   T lo[3] = {std::numeric_limits<T>::max(), std::numeric_limits<T>::max(), std::numeric_limits<T>::max()};
   T hi[3] = {-lo[0], -lo[1], -lo[2]};
+  // Rounded to T; beyond T's range a value becomes an infinity (a plain
+  // conversion would be undefined behaviour), and the cubic then has no root.
+  auto rounded = [](double v) {
+    const double top = double(std::numeric_limits<T>::max());
+    return v > top ? std::numeric_limits<T>::infinity() : v < -top ? -std::numeric_limits<T>::infinity() : T(v);
+  };
   for (int i = 0; i < 8; ++i) {
-    x[i] = {T(points[i].x), T(points[i].y), T(points[i].z)};
+    x[i] = {rounded(points[i].x), rounded(points[i].y), rounded(points[i].z)};
     const T c[3] = {x[i].x, x[i].y, x[i].z};
     for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c[k]), hi[k] = std::max(hi[k], c[k]);
   }
