@@ -22,7 +22,7 @@ struct MeasureSettings {
   std::size_t accuracy_sample = 2000;   ///< CCD candidates checked exactly besides the filter's yes/uncertain
 };
 
-/// "vss-grid", "largest-grid" or "brute-force".
+/// "vss-grid", "largest-grid", "brute-force" or "box-grid".
 const char* method_name(BroadPhaseMethod method);
 
 /// One broad phase on every step (`ccd` true) or every frame: median stage
@@ -53,6 +53,11 @@ nlohmann::json measure_ccd_accuracy(const BenchScene& scene, const MeasureSettin
 /// the speed ratio, and whether the intersecting pair sets are identical
 /// (the differences otherwise). CGAL's (f, f) degenerate-face reports are
 /// counted apart: snag's intersections() does not report degenerate faces.
+/// "snag_stages": snag's seconds per stage in the last pass (broad phase and
+/// its stages, triangle tests, events), its predicate counts, and "filter":
+/// on the box grid's pairs of every frame, how many the 2D exact-sign filter
+/// decided and how often a predicate of the filter or of the test that
+/// followed needed its exact stage.
 nlohmann::json measure_static_vs_cgal(const BenchScene& scene, const MeasureSettings& settings);
 
 }  // namespace snag::bench

@@ -7,28 +7,13 @@
 #include <algorithm>
 #include <chrono>
 
+#include "libcd/broad_phase/broad_phase_support.hpp"
 #include "libcd/broad_phase/feature_stage.hpp"
 #include "libcd/core/error.hpp"
 
 namespace snag {
 
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-int arena_threads(unsigned threads) {
-  return threads == 0 ? tbb::task_arena::automatic : static_cast<int>(threads);
-}
-
-void check_positions(const Scene* scene, const std::vector<Vec3>& x) {
-  if (scene == nullptr) throw UsageError("broad phase: build() must be called before detection");
-  if (x.size() != scene->vertex_count())
-    throw UsageError("broad phase: " + std::to_string(x.size()) + " positions given, the scene has " +
-                     std::to_string(scene->vertex_count()) + " vertices");
-}
-
-}  // namespace
+using namespace broad_phase_support;
 
 void BruteForceBroadPhase::build(const Scene& scene, const BroadPhaseSettings& settings) {
   if (!(settings.thickness >= 0.0)) throw UsageError("broad phase: thickness must be >= 0");
@@ -68,8 +53,8 @@ std::vector<TrianglePair> BruteForceBroadPhase::triangle_pairs(const std::vector
 
 void BruteForceBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                                       std::vector<VertexFaceCandidate>& vf, std::vector<EdgeEdgeCandidate>& ee) {
-  check_positions(scene_, x_t0);
-  check_positions(scene_, x_t1);
+  check_positions(scene_, x_t0, "x_t0");
+  check_positions(scene_, x_t1, "x_t1");
   tbb::task_arena arena(arena_threads(settings_.threads));
   arena.execute([&] {
     const auto start = Clock::now();
@@ -80,7 +65,7 @@ void BruteForceBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::
 }
 
 void BruteForceBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) {
-  check_positions(scene_, x);
+  check_positions(scene_, x, "x");
   tbb::task_arena arena(arena_threads(settings_.threads));
   arena.execute([&] {
     pairs = triangle_pairs(x, x);

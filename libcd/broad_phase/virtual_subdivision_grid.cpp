@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "libcd/broad_phase/broad_phase_support.hpp"
 #include "libcd/broad_phase/feature_stage.hpp"
 #include "libcd/core/error.hpp"
 #include "libcd/grid/cell_registration.hpp"
@@ -19,19 +20,7 @@ namespace snag {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-int arena_threads(unsigned threads) {
-  return threads == 0 ? tbb::task_arena::automatic : static_cast<int>(threads);
-}
-
-void check_positions(const Scene* scene, const std::vector<Vec3>& x, const char* what) {
-  if (scene == nullptr) throw UsageError("broad phase: build() must be called before detection");
-  if (x.size() != scene->vertex_count())
-    throw UsageError(std::string("broad phase: ") + what + " holds " + std::to_string(x.size()) +
-                     " positions, the scene has " + std::to_string(scene->vertex_count()) + " vertices");
-}
+using namespace broad_phase_support;
 
 /// Counters of one chunk of work items.
 struct PairCounts {

@@ -55,6 +55,32 @@ const char* to_string(TriangleAdjacency adjacency);
 
 namespace triangle_detail {
 
+/// How the vertex ids of triangles a and b match.
+struct SharedIds {
+  int count = 0;             ///< matching (i, j) pairs, a_ids[i] == b_ids[j]
+  int a_last = 0, b_last = 0;  ///< the last match: with count 1, the shared vertex
+  int a_opposite = 0, b_opposite = 0;  ///< with count 2, the vertex of each not shared
+};
+
+SNAG_HD_INLINE SharedIds shared_ids(const std::uint32_t a_ids[3], const std::uint32_t b_ids[3]) {
+  SharedIds shared;
+  bool a_is_shared[3] = {false, false, false};
+  bool b_is_shared[3] = {false, false, false};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (a_ids[i] == b_ids[j]) {
+        ++shared.count;
+        a_is_shared[i] = b_is_shared[j] = true;
+        shared.a_last = i;
+        shared.b_last = j;
+      }
+  for (int i = 0; i < 3; ++i) {
+    if (!a_is_shared[i]) shared.a_opposite = i;
+    if (!b_is_shared[i]) shared.b_opposite = i;
+  }
+  return shared;
+}
+
 /// A coordinate axis whose dropping projects the triangle to a non-degenerate
 /// 2D triangle, or -1 when the triangle is degenerate (its vertices are
 /// collinear: every projection is degenerate).
@@ -250,17 +276,8 @@ SNAG_HD_INLINE bool triangles_separated_in_projection(const Vec3 a[3], const std
                                                       const std::uint32_t b_ids[3],
                                                       PredicateCounters* counters = nullptr) {
   using namespace triangle_detail;
-  int shared_count = 0, a_shared = 0, b_shared = 0;
-  bool a_is_shared[3] = {false, false, false};
-  bool b_is_shared[3] = {false, false, false};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (a_ids[i] == b_ids[j]) {
-        ++shared_count;
-        a_is_shared[i] = b_is_shared[j] = true;
-        a_shared = i;
-        b_shared = j;
-      }
+  const SharedIds shared = shared_ids(a_ids, b_ids);
+  const int shared_count = shared.count, a_shared = shared.a_last, b_shared = shared.b_last;
   const Vec3 n = cross(a[1] - a[0], a[2] - a[0]);
   const double nx = fabs(n.x), ny = fabs(n.y), nz = fabs(n.z);
   const int axis = (nx >= ny && nx >= nz) ? 0 : (ny >= nz ? 1 : 2);
@@ -275,11 +292,7 @@ SNAG_HD_INLINE bool triangles_separated_in_projection(const Vec3 a[3], const std
            separated_in_projection(b_from_shared, 3, a_from_shared + 1, 2, axis, counters);
   }
   if (shared_count == 2) {
-    int a_opposite = 0, b_opposite = 0;
-    for (int i = 0; i < 3; ++i) {
-      if (!a_is_shared[i]) a_opposite = i;
-      if (!b_is_shared[i]) b_opposite = i;
-    }
+    const int a_opposite = shared.a_opposite, b_opposite = shared.b_opposite;
     const Vec3 edge0 = a[a_opposite == 2 ? 0 : a_opposite + 1];
     const Vec3 edge1 = a[a_opposite == 0 ? 2 : a_opposite - 1];
     const int r_side = orient2d_projected(edge0, edge1, a[a_opposite], axis, counters);
@@ -316,27 +329,14 @@ SNAG_HD_INLINE bool triangles_intersect(const Vec3 a[3], const std::uint32_t a_i
   if (a_axis < 0 || b_axis < 0) {
     relation = TriangleAdjacency::degenerate;
   } else {
-    int shared_count = 0, a_shared = -1, b_shared = -1;
-    bool a_is_shared[3] = {false, false, false};
-    bool b_is_shared[3] = {false, false, false};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        if (a_ids[i] == b_ids[j]) {
-          ++shared_count;
-          a_is_shared[i] = b_is_shared[j] = true;
-          a_shared = i;
-          b_shared = j;
-        }
+    const SharedIds shared = shared_ids(a_ids, b_ids);
+    const int shared_count = shared.count, a_shared = shared.a_last, b_shared = shared.b_last;
     if (shared_count >= 3) {
       relation = TriangleAdjacency::same_vertices;
       result = true;
     } else if (shared_count == 2) {
       relation = TriangleAdjacency::shared_edge;
-      int a_opposite = 0, b_opposite = 0;
-      for (int i = 0; i < 3; ++i) {
-        if (!a_is_shared[i]) a_opposite = i;
-        if (!b_is_shared[i]) b_opposite = i;
-      }
+      const int a_opposite = shared.a_opposite, b_opposite = shared.b_opposite;
       const Vec3 edge0 = a[a_opposite == 2 ? 0 : a_opposite + 1];
       const Vec3 edge1 = a[a_opposite == 0 ? 2 : a_opposite - 1];
       const Vec3 r = a[a_opposite], s = b[b_opposite];
