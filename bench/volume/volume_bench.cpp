@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <functional>
 #include <string>
 #include <vector>
@@ -64,8 +65,7 @@ double default_voxel_size(const Pair& pair) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  openvdb::initialize();
+int run(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   std::vector<Pair> pairs;
   const TriangleMesh sphere = vt::icosphere({0, 0, 0}, 1, 4);
@@ -110,4 +110,14 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  openvdb::initialize();
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "bench_volume: error: %s\n", error.what());
+    return 2;
+  }
 }
