@@ -87,6 +87,10 @@ std::vector<BroadPhaseRun> broad_phase_runs(const SceneBenchmarkSettings& settin
   largest.method = "largest-triangle";
   largest.name = "largest-triangle grid";
   runs.push_back(largest);
+  BroadPhaseRun box;
+  box.method = "box-grid";
+  box.name = "box grid (CPU)";
+  runs.push_back(box);
   BroadPhaseRun brute;
   brute.method = "brute-force";
   brute.name = "brute force";
@@ -98,6 +102,7 @@ std::vector<BroadPhaseRun> broad_phase_runs(const SceneBenchmarkSettings& settin
 std::unique_ptr<BroadPhase> make_for(const BroadPhaseRun& run) {
   if (run.method == "brute-force") return make_broad_phase(BroadPhaseMethod::kBruteForce);
   if (run.method == "largest-triangle") return make_broad_phase(BroadPhaseMethod::kLargestTriangleGrid);
+  if (run.method == "box-grid") return make_broad_phase(BroadPhaseMethod::kBoxGrid);
   return make_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
 }
 

@@ -6,7 +6,8 @@
 // the ground truth, as snag-verify --exhaustive computes it). Also every CCD
 // method on the grid's candidates against that truth, and the broad phases
 // (VSS grid over a range of lambda, with and without time halving, with the
-// subdivision depth capped, the largest-triangle grid, brute force): tests,
+// subdivision depth capped, the largest-triangle grid, the CPU's box grid,
+// brute force): tests,
 // time, memory, and any colliding pair missing from their candidates.
 #pragma once
 
@@ -37,7 +38,7 @@ struct SceneBenchmarkSettings {
 /// One broad phase configuration on every step.
 struct BroadPhaseRun {
   std::string name;                 ///< e.g. "vss lambda=1.2", "vss no time halving", "largest-triangle grid"
-  std::string method;               ///< "vss", "largest-triangle", "brute-force"
+  std::string method;               ///< "vss", "largest-triangle", "box-grid", "brute-force"
   double lambda = 1.2;
   int max_subdivision_levels = 16, max_time_halvings = 12;
   bool skipped = false;             ///< brute force over brute_force_max_triangles
