@@ -18,7 +18,6 @@
 #include <string>
 #include <vector>
 
-#include "io/mesh_file.hpp"
 #include "volume/overlap_volume.hpp"
 #include "volume/region_measure.hpp"
 #include "volume/testing/exact_overlap.hpp"
@@ -39,15 +38,6 @@ double seconds(const std::function<void()>& work) {
   const auto start = std::chrono::steady_clock::now();
   work();
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-TriangleMesh read_mesh(const std::string& path) {
-  const snag::io::MeshData data = snag::io::read_mesh_file(path);
-  TriangleMesh mesh;
-  const snag::io::MeshObject& object = data.objects.at(0);
-  for (snag::Index v : object.vertices) mesh.vertices.push_back(data.positions[v]);
-  mesh.triangles = object.triangles;
-  return mesh;
 }
 
 // The region a scan would report: the faces in the box where the meshes' boxes meet.
@@ -74,11 +64,11 @@ int run(int argc, char** argv) {
   }
   pairs.push_back({"box / sphere", vt::box_mesh({0.4, -0.5, -0.6}, {1.6, 0.7, 0.5}), sphere});
   if (!quick) {
-    const TriangleMesh bunny = read_mesh(std::string(SNAG_SHARED_DATA_DIR) + "/meshes/bunny.ply");
+    const TriangleMesh bunny = vt::read_first_object(std::string(SNAG_SHARED_DATA_DIR) + "/meshes/bunny.ply");
     const Box box = mesh_box(bunny);
     const double size = longest_side(box);
     pairs.push_back({"bunny / moved bunny", bunny, vt::moved(bunny, {0.3 * size, 0.05 * size, 0.02 * size})});
-    const TriangleMesh ball = read_mesh(std::string(SNAG_SOURCE_DIR) + "/samples/cloth_ball/body_rest.obj");
+    const TriangleMesh ball = vt::read_first_object(std::string(SNAG_SOURCE_DIR) + "/samples/cloth_ball/body_rest.obj");
     pairs.push_back({"ball / moved ball", ball, vt::moved(ball, {0.4, 0.1, 0.05})});
   }
 

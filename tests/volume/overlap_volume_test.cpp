@@ -5,8 +5,10 @@
 #include <openvdb/openvdb.h>
 
 #include <cmath>
+#include <string>
 
 #include "volume/overlap_volume.hpp"
+#include "volume/region_measure.hpp"
 #include "volume/testing/exact_overlap.hpp"
 #include "volume/testing/shapes.hpp"
 
@@ -66,6 +68,22 @@ TEST_F(OverlapVolumeTest, ABoxAndASphereAgainstCgal) {
   const TriangleMesh sphere = vt::icosphere({0, 0, 0}, 1, 4);
   const double exact = vt::exact_overlap_volume(box, sphere);
   const OverlapVolume measured = overlap_volume(box, sphere, crossing_box(box, sphere), 0.025);
+  EXPECT_NEAR(measured.volume, exact, 0.01 * exact);
+}
+
+TEST_F(OverlapVolumeTest, TheBunnyAgainstAMovedCopyOfItselfAgainstCgal) {
+  // A real mesh (5,002 faces) at the default voxel size of its region.
+  const TriangleMesh bunny = vt::read_first_object(std::string(SNAG_SHARED_DATA_DIR) + "/meshes/bunny.ply");
+  const double size = longest_side(mesh_box(bunny));
+  const TriangleMesh moved = vt::moved(bunny, {0.3 * size, 0.05 * size, 0.02 * size});
+  const double exact = vt::exact_overlap_volume(bunny, moved);
+  const Box region = crossing_box(bunny, moved);
+  RegionSide a, b;
+  a.mesh = &bunny;
+  b.mesh = &moved;
+  a.faces = faces_near(bunny, region);
+  b.faces = faces_near(moved, region);
+  const OverlapVolume measured = overlap_volume(bunny, moved, region, region_voxel_size(a, b, false, region));
   EXPECT_NEAR(measured.volume, exact, 0.01 * exact);
 }
 

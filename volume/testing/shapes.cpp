@@ -5,6 +5,8 @@
 #include <map>
 #include <utility>
 
+#include "io/mesh_file.hpp"
+
 namespace snag::volume::testing {
 
 TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
@@ -84,6 +86,15 @@ TriangleMesh moved(const TriangleMesh& mesh, const Vec3& offset) {
   TriangleMesh m = mesh;
   for (Vec3& p : m.vertices) p = p + offset;
   return m;
+}
+
+TriangleMesh read_first_object(const std::string& path) {
+  const io::MeshData data = io::read_mesh_file(path);
+  TriangleMesh mesh;
+  const io::MeshObject& object = data.objects.at(0);
+  for (Index v : object.vertices) mesh.vertices.push_back(data.positions[v]);
+  mesh.triangles = object.triangles;
+  return mesh;
 }
 
 }  // namespace snag::volume::testing

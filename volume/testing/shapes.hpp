@@ -1,6 +1,9 @@
 // Closed and open test shapes with known measures, for the tests and the
-// benchmark of snag::volume: boxes, icospheres, square sheets.
+// benchmark of snag::volume: boxes, icospheres, square sheets, and real
+// meshes read from files.
 #pragma once
+
+#include <string>
 
 #include "volume/triangle_mesh.hpp"
 
@@ -20,5 +23,7 @@ TriangleMesh turned_about_x(const TriangleMesh& mesh, const Vec3& centre);
 TriangleMesh joined(const TriangleMesh& a, const TriangleMesh& b);
 /// `mesh` moved by `offset`.
 TriangleMesh moved(const TriangleMesh& mesh, const Vec3& offset);
+/// The first object of a mesh file (OBJ, PLY, STL; snag's readers). Throws InputError.
+TriangleMesh read_first_object(const std::string& path);
 
 }  // namespace snag::volume::testing
