@@ -1,20 +1,45 @@
 #include "report/json_text.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
 namespace snag::report {
 
+namespace {
+
+bool needs_escape(char c) { return c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20; }
+
+}  // namespace
+
+// Millions of keys and strings go through here: each is written with one
+// resize and copy rather than a call per character.
 JsonText& JsonText::key(std::string_view name, bool first) {
-  if (!first) text_.push_back(',');
-  text_.push_back('"');
-  text_.append(name);  // keys are the schema's own names: nothing to escape
-  text_.append("\":");
+  // keys are the schema's own names: nothing to escape
+  const std::size_t at = text_.size();
+  const std::size_t comma = first ? 0 : 1;
+  text_.resize(at + comma + name.size() + 3);
+  char* out = &text_[at];
+  if (!first) *out++ = ',';
+  *out++ = '"';
+  out = std::copy(name.begin(), name.end(), out);
+  out[0] = '"';
+  out[1] = ':';
   return *this;
 }
 
 JsonText& JsonText::string(std::string_view s) {
   static const char* const hex = "0123456789abcdef";
+  const std::size_t plain = static_cast<std::size_t>(std::find_if(s.begin(), s.end(), needs_escape) - s.begin());
+  if (plain == s.size()) {
+    const std::size_t at = text_.size();
+    text_.resize(at + s.size() + 2);
+    char* out = &text_[at];
+    *out++ = '"';
+    out = std::copy(s.begin(), s.end(), out);
+    *out = '"';
+    return *this;
+  }
   text_.push_back('"');
   for (const char c : s) {
     const auto u = static_cast<unsigned char>(c);

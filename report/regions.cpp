@@ -46,6 +46,17 @@ RegionBuilder::RegionBuilder(const Scene& scene)
   std::vector<Index> fill(vertex_face_start_.begin(), vertex_face_start_.end() - 1);
   for (Index f = 0; f < triangles.size(); ++f)
     for (Index v : triangles[f]) vertex_faces_[fill[v]++] = f;
+  // The faces on each edge, in the order of the faces around its first end.
+  const auto& edges = scene.edges();
+  edge_face_start_.assign(edges.size() + 1, 0);
+  for (Index e = 0; e < edges.size(); ++e) {
+    const Edge& edge = edges[e];
+    for (Index k = vertex_face_start_[edge[0]]; k < vertex_face_start_[edge[0] + 1]; ++k) {
+      const Triangle& t = triangles[vertex_faces_[k]];
+      if (t[0] == edge[1] || t[1] == edge[1] || t[2] == edge[1]) edge_faces_.push_back(vertex_faces_[k]);
+    }
+    edge_face_start_[e + 1] = static_cast<Index>(edge_faces_.size());
+  }
 }
 
 void RegionBuilder::event_faces(const Event& e, std::vector<Index>& faces) const {
@@ -54,11 +65,7 @@ void RegionBuilder::event_faces(const Event& e, std::vector<Index>& faces) const
     for (Index k = vertex_face_start_[v]; k < vertex_face_start_[v + 1]; ++k) faces.push_back(vertex_faces_[k]);
   };
   auto on_edge = [&](Index e) {
-    const Edge& edge = scene_.edges()[e];
-    for (Index k = vertex_face_start_[edge[0]]; k < vertex_face_start_[edge[0] + 1]; ++k) {
-      const Triangle& t = scene_.triangles()[vertex_faces_[k]];
-      if (t[0] == edge[1] || t[1] == edge[1] || t[2] == edge[1]) faces.push_back(vertex_faces_[k]);
-    }
+    faces.insert(faces.end(), edge_faces_.begin() + edge_face_start_[e], edge_faces_.begin() + edge_face_start_[e + 1]);
   };
   if (e.kind == EventKind::kIntersection) {
     faces.push_back(e.a);
@@ -84,11 +91,20 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
                           const std::vector<Vec3>& x, std::size_t frame, std::vector<RegionRecord>& regions,
                           std::vector<std::size_t>& region_of) {
   region_of.assign(events.size(), kNone);
-  std::map<std::tuple<int, std::size_t, std::size_t>, Group> groups;
+  using GroupKey = std::tuple<int, std::size_t, std::size_t>;
+  std::map<GroupKey, Group> groups;
+  // Events of one group come in long runs: one map look-up per run.
+  GroupKey last_key{-1, 0, 0};
+  Group* last_group = nullptr;
   for (std::size_t i = 0; i < events.size(); ++i) {
     if (!in_region[i]) continue;
     const auto [a, b] = event_objects(scene_, events[i]);
-    groups[{static_cast<int>(events[i].kind), a, b}].events.push_back(i);
+    const GroupKey key{static_cast<int>(events[i].kind), a, b};
+    if (key != last_key) {
+      last_key = key;
+      last_group = &groups[key];
+    }
+    last_group->events.push_back(i);
   }
   const std::size_t first_region = regions.size();
   std::vector<std::size_t> first_event;  // of each new region

@@ -47,6 +47,7 @@ class RegionBuilder {
 
   const Scene& scene_;
   std::vector<Index> vertex_face_start_, vertex_faces_;  // CSR: faces around each vertex
+  std::vector<Index> edge_face_start_, edge_faces_;      // CSR: faces on each edge
   // Scratch, stamped per group so that it is never cleared.
   std::vector<std::uint32_t> face_stamp_, vertex_stamp_;
   std::vector<Index> face_slot_, vertex_first_face_slot_;

@@ -84,8 +84,16 @@ void ReportSink::frame(ScannedFrame& frame) {
   kept_.clear();
   in_region_.clear();
   allowed_by_.clear();
+  kept_.reserve(events.size());
+  in_region_.reserve(events.size());
+  allowed_by_.reserve(events.size());
   // Per pair and kind, this frame's checked events: for frames affected and the worst frame.
   std::map<PairKey, std::size_t> checked_here;
+  // The events of a pair come in long runs: the last pair's summary and
+  // count are kept at hand instead of two map look-ups per event.
+  PairKey last_key{-1, 0, 0};
+  PairSummary* last_summary = nullptr;
+  std::size_t* last_checked = nullptr;
   for (const Event& e : events) {
     const Disposition d = rules_.classify(e);
     if (d.kind == Disposition::kNotChecked) {
@@ -97,7 +105,13 @@ void ReportSink::frame(ScannedFrame& frame) {
       continue;
     }
     const auto [a, b] = event_objects(scene_, e);
-    PairSummary& summary = pair(e.kind, a, b);
+    const PairKey key{static_cast<int>(e.kind), a, b};
+    if (key != last_key) {
+      last_key = key;
+      last_summary = &pair(e.kind, a, b);
+      last_checked = nullptr;
+    }
+    PairSummary& summary = *last_summary;
     kept_.push_back(e);
     if (d.kind == Disposition::kAllowed) {
       in_region_.push_back(0);
@@ -111,7 +125,8 @@ void ReportSink::frame(ScannedFrame& frame) {
     in_region_.push_back(1);
     allowed_by_.push_back(kNone);
     ++summary.events;
-    ++checked_here[PairKey{static_cast<int>(e.kind), a, b}];
+    if (!last_checked) last_checked = &checked_here[key];
+    ++*last_checked;
     if (e.kind == EventKind::kCollision) {
       ++record.collisions;
       record.vf += e.type == ContactType::kVertexFace;

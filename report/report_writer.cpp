@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string_view>
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 namespace snag::report {
 
@@ -40,7 +42,9 @@ void ReportWriter::flush() {
   if (!out_) throw std::runtime_error("writing the report failed");
 }
 
-void ReportWriter::object_name(std::size_t o) { line_.string(o < names_.size() ? names_[o] : std::string("?")); }
+void ReportWriter::object_name(std::size_t o) {
+  line_.string(o < names_.size() ? std::string_view(names_[o]) : std::string_view("?"));
+}
 
 void ReportWriter::object_pair(std::size_t a, std::size_t b) {
   line_.key("objects").raw("[");
@@ -157,7 +161,8 @@ namespace {
 // One event line; `names` are the header's object names. A free function so
 // that blocks of events can be formatted on several threads at once.
 void format_event(JsonText& j, const EventRecord& e, const std::vector<std::string>& names) {
-  auto name = [&](std::size_t o) { j.string(o < names.size() ? names[o] : std::string("?")); };
+  // A view, not a std::string: the name is not copied for every event.
+  auto name = [&](std::size_t o) { j.string(o < names.size() ? std::string_view(names[o]) : std::string_view("?")); };
   j.raw("{").key("record", true).string("event");
   j.key("kind").string(kind_name(e.kind));
   j.key("frame").number(e.frame);
@@ -207,13 +212,33 @@ void ReportWriter::write_events(std::size_t count, const std::function<EventReco
     for (std::size_t i = 0; i < count; ++i) write_event(event(i));
     return;
   }
-  std::vector<JsonText> blocks((count + kBlock - 1) / kBlock);
-  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
-    for (std::size_t i = b * kBlock; i < std::min(count, (b + 1) * kBlock); ++i) format_event(blocks[b], event(i), names_);
-  });
+  // Blocks are formatted a batch at a time into buffers kept from batch to
+  // batch and frame to frame: the text of a batch, not of the whole frame,
+  // is held at once, and the buffers' pages are touched once per run
+  // instead of fresh pages (page faults) for every frame's text.
+  constexpr std::size_t kBlocksPerBatch = 16;
   flush();
-  for (JsonText& block : blocks) out_.write(block.text().data(), static_cast<std::streamsize>(block.text().size()));
-  if (!out_) throw std::runtime_error("writing the report failed");
+  if (blocks_.size() < kBlocksPerBatch) blocks_.resize(kBlocksPerBatch);
+  for (std::size_t first = 0; first < count; first += kBlock * kBlocksPerBatch) {
+    const std::size_t end = std::min(count, first + kBlock * kBlocksPerBatch);
+    const std::size_t blocks = (end - first + kBlock - 1) / kBlock;
+    // Isolated: while it waits for its blocks, this thread (the scan's sink)
+    // must not take up the scan's own tasks, which would hold the report back
+    // for as long as one of them runs.
+    tbb::this_task_arena::isolate([&] {
+      tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+        JsonText& block = blocks_[b];
+        block.clear();
+        const std::size_t block_first = first + b * kBlock;
+        for (std::size_t i = block_first; i < std::min(end, block_first + kBlock); ++i)
+          format_event(block, event(i), names_);
+      });
+    });
+    for (std::size_t b = 0; b < blocks; ++b) {
+      out_.write(blocks_[b].text().data(), static_cast<std::streamsize>(blocks_[b].text().size()));
+    }
+    if (!out_) throw std::runtime_error("writing the report failed");
+  }
 }
 
 void ReportWriter::write_region(const RegionRecord& r) {

@@ -6,6 +6,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "report/json_text.hpp"
 #include "report/records.hpp"
@@ -45,6 +46,7 @@ class ReportWriter {
   std::vector<std::string> names_;
   bool region_faces_ = true;  // settings.events "none": regions without their face lists
   JsonText line_;
+  std::vector<JsonText> blocks_;  // write_events' buffers, kept for the next batch
 };
 
 }  // namespace snag::report

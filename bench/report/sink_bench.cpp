@@ -1,0 +1,128 @@
+// snag-bench-report-sink: the report sink's own time per frame, away from
+// the scan. Scans the step t0 -> t1 -> t0 once on the CPU, keeps each
+// frame's events and positions, then feeds a ReportSink the frames
+// t0 t1 t0 t1 ... (as snag-scan --sequence t0 t1 t0 t1 ... does) and times
+// each frame() call: wall and CPU time of the process (the sink's thread and
+// the threads it formats events on; nothing else runs then), so that the
+// number holds on a machine that other work shares. The report goes to
+// /dev/null.
+//
+//   snag-bench-report-sink T0 T1 [FRAMES] [RUNS]   (defaults 12 and 3)
+//
+// Prints one JSON object: events per frame, and per-frame milliseconds
+// (median over runs of each run's mean) of the sink, wall and CPU.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "io/open_cache.hpp"
+#include "libcd/pipeline/backend.hpp"
+#include "libcd/pipeline/scan.hpp"
+#include "report/report_sink.hpp"
+#include "report/report_writer.hpp"
+#include "report/rules.hpp"
+
+namespace {
+
+using snag::Event;
+using snag::Vec3;
+
+struct Recorded {
+  std::vector<Event> events;
+  std::vector<Vec3> x;
+};
+
+// Keeps each scanned frame's events and positions.
+class RecordingSink : public snag::ScanSink {
+ public:
+  void frame(snag::ScannedFrame& frame) override { frames.push_back({*frame.events, *frame.x}); }
+  std::vector<Recorded> frames;
+};
+
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: %s T0 T1 [FRAMES] [RUNS]\n", argv[0]);
+    return 2;
+  }
+  const std::size_t frames = argc > 3 ? std::stoul(argv[3]) : 12;
+  const std::size_t runs = argc > 4 ? std::stoul(argv[4]) : 3;
+  if (frames < 2 || runs < 1) {
+    std::fprintf(stderr, "%s: FRAMES must be at least 2 and RUNS at least 1\n", argv[0]);
+    return 2;
+  }
+
+  snag::io::CacheOptions cache;
+  snag::io::InputSpec input;
+  input.frame_files = {argv[1], argv[2], argv[1]};
+  cache.inputs.push_back(input);
+  auto source = snag::io::open_cache(cache);
+  const snag::Scene& scene = source->scene();
+  const snag::report::RuleSet rules(scene, {}, 0.0);
+  auto backend = snag::make_cpu_backend();
+  backend->bind(scene, snag::BackendSettings{});
+  RecordingSink recorded;
+  snag::scan_cache(*source, *backend, snag::ScanSettings{}, recorded, {});
+  // Frames 0 and 1 of the scan: the steps t0 -> t1 and t1 -> t0 with each frame's intersections.
+  recorded.frames.resize(2);
+
+  snag::report::Header header;
+  header.source = source->description();
+  for (const snag::Object& object : scene.objects()) {
+    header.objects.push_back({object.name, object.vertex_count, snag::file_vertex_count(object),
+                              object.triangles.size(), object.edges.size(), object.weld.method, 0.0});
+  }
+  header.frame_count = frames;
+
+  std::vector<double> wall_ms, cpu_ms;
+  std::size_t events = 0;
+  for (std::size_t run = 0; run < runs; ++run) {
+    std::ofstream null("/dev/null");
+    snag::report::ReportWriter writer(null);
+    snag::report::ReportSink sink(scene, header, rules, &writer);
+    double wall = 0, cpu = 0;
+    std::vector<Event> working;
+    for (std::size_t position = 0; position < frames; ++position) {
+      const Recorded& r = recorded.frames[position % 2];
+      working = r.events;
+      for (Event& e : working) e.frame = position;
+      events += working.size();
+      snag::ScannedFrame frame;
+      frame.position = position;
+      frame.time = static_cast<double>(position);
+      frame.summary.frame = position;
+      frame.events = &working;
+      frame.x = &r.x;
+      frame.x_next = position + 1 < frames ? &recorded.frames[(position + 1) % 2].x : nullptr;
+      const auto wall_start = std::chrono::steady_clock::now();
+      const double cpu_start = process_cpu_seconds();
+      sink.frame(frame);
+      cpu += process_cpu_seconds() - cpu_start;
+      wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    }
+    sink.finish("{}", "{}");
+    wall_ms.push_back(1e3 * wall / static_cast<double>(frames));
+    cpu_ms.push_back(1e3 * cpu / static_cast<double>(frames));
+  }
+  std::printf("{\"frames\":%zu,\"runs\":%zu,\"events_per_frame\":%.0f,\"sink_wall_ms_per_frame\":%.2f,"
+              "\"sink_cpu_ms_per_frame\":%.2f}\n",
+              frames, runs, static_cast<double>(events) / static_cast<double>(frames * runs), median(wall_ms),
+              median(cpu_ms));
+  return 0;
+}
