@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <future>
 #include <type_traits>
 
 #include "libcd/core/error.hpp"
@@ -110,29 +111,47 @@ PartTotals replay_part(const std::string& path, const FrameSource& source, ScanS
   char magic[kMagicSize];
   part.read(magic, kMagicSize);
   if (std::memcmp(magic, kMagic, kMagicSize) != 0) throw part_error(path, 0, "not a snag scan part");
-  std::vector<Event> events;
-  std::vector<Vec3> x;
-  for (;;) {
-    const auto tag = part.read<char>();
-    if (tag == 'E') break;
-    if (tag != 'F') throw part_error(path, part.offset() - 1, "unknown record in the part");
-    ScannedFrame frame;
-    frame.position = part.read<std::size_t>();
-    frame.time = part.read<double>();
-    frame.summary = part.read<FrameSummary>();
-    const auto count = part.read<std::size_t>();
-    if (frame.position >= source.frame_count() || count > frame.summary.collisions + frame.summary.intersections) {
-      throw part_error(path, part.offset(), "the part does not match the cache");
+  // Frame i is read into buffers i % 2 while the sink takes frame i - 1 on
+  // a thread of its own (reading the cache's positions costs about what the
+  // sink does); the sink of frame i - 2, which used them, is done by then.
+  ScannedFrame frames[2];
+  std::vector<Event> events[2];
+  std::vector<Vec3> x[2];
+  std::future<void> sinking;
+  auto wait_for_sink = [&] {
+    if (sinking.valid()) sinking.get();  // rethrows what the sink threw
+  };
+  try {
+    for (std::size_t i = 0;; ++i) {
+      const auto tag = part.read<char>();
+      if (tag == 'E') break;
+      if (tag != 'F') throw part_error(path, part.offset() - 1, "unknown record in the part");
+      ScannedFrame& frame = frames[i % 2];
+      frame = ScannedFrame{};
+      frame.position = part.read<std::size_t>();
+      frame.time = part.read<double>();
+      frame.summary = part.read<FrameSummary>();
+      const auto count = part.read<std::size_t>();
+      if (frame.position >= source.frame_count() ||
+          count > frame.summary.collisions + frame.summary.intersections) {
+        throw part_error(path, part.offset(), "the part does not match the cache");
+      }
+      events[i % 2].resize(count);
+      part.read(events[i % 2].data(), count * sizeof(Event));
+      // Only events make the sink look at positions (regions' bounds).
+      x[i % 2].clear();
+      if (count > 0) source.read_frame(frame.position, x[i % 2]);
+      frame.events = &events[i % 2];
+      frame.x = &x[i % 2];
+      wait_for_sink();
+      sinking = std::async(std::launch::async, [&sink, &frame] { sink.frame(frame); });
+      if (progress) progress(frame.position);
     }
-    events.resize(count);
-    part.read(events.data(), count * sizeof(Event));
-    // Only events make the sink look at positions (regions' bounds).
-    x.clear();
-    if (count > 0) source.read_frame(frame.position, x);
-    frame.events = &events;
-    frame.x = &x;
-    sink.frame(frame);
-    if (progress) progress(frame.position);
+    wait_for_sink();
+  } catch (...) {
+    // Nothing may still use the buffers when they go.
+    if (sinking.valid()) sinking.wait();
+    throw;
   }
   PartTotals totals;
   totals.frames = part.read<std::size_t>();

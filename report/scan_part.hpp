@@ -56,8 +56,10 @@ class PartWriter : public ScanSink {
 /// events from `source` (the whole cache, positions as in the part) for the
 /// sink's regions. The frames carry no next positions: the part's events
 /// were re-decided already. `progress` gets each frame's position. Returns
-/// the part's totals. Throws InputError naming the file when it is
-/// truncated or not a part.
+/// the part's totals. The sink runs on a thread of its own, one frame at
+/// a time, in order, while the next frame is read (as in scan_cache()).
+/// Throws InputError naming the file when it is truncated or not a part,
+/// and what the sink or the source throws.
 PartTotals replay_part(const std::string& path, const FrameSource& source, ScanSink& sink,
                        const std::function<void(std::size_t)>& progress = {});
 

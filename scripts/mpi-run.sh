@@ -8,7 +8,8 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 export OPAL_PREFIX=$here/ompi
-export PMIX_INSTALL_PREFIX=$here/pmix2
+export PMIX_INSTALL_PREFIX=$here/pmix2 PMIX_MCA_mca_base_component_path=$here/pmix2/lib/pmix
+export PMIX_MCA_pcompress_base_silence_warning=1
 export LD_LIBRARY_PATH=$here/ompi/lib/x86_64-linux-gnu/openmpi/lib:$here/pmix2/lib:$here/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 export PATH=$here/ompi/bin:$PATH
 export OMPI_MCA_btl=self,tcp OMPI_MCA_btl_tcp_if_include=lo OMPI_MCA_oob_tcp_if_include=lo OMPI_MCA_pml=ob1
