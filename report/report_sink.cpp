@@ -81,10 +81,8 @@ void ReportSink::frame(ScannedFrame& frame) {
   record.position = frame.position;
   record.index = frame.summary.frame;
   record.time = frame.time;
-  kept_.clear();
   in_region_.clear();
   allowed_by_.clear();
-  kept_.reserve(events.size());
   in_region_.reserve(events.size());
   allowed_by_.reserve(events.size());
   // Per pair and kind, this frame's checked events: for frames affected and the worst frame.
@@ -94,7 +92,11 @@ void ReportSink::frame(ScannedFrame& frame) {
   PairKey last_key{-1, 0, 0};
   PairSummary* last_summary = nullptr;
   std::size_t* last_checked = nullptr;
-  for (const Event& e : events) {
+  // The kept events are moved down in place (the scan lets the sink remove
+  // events): nothing is copied while no rule drops any.
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    const Event& e = events[i];
     const Disposition d = rules_.classify(e);
     if (d.kind == Disposition::kNotChecked) {
       ++trailer_.not_checked;
@@ -112,7 +114,8 @@ void ReportSink::frame(ScannedFrame& frame) {
       last_checked = nullptr;
     }
     PairSummary& summary = *last_summary;
-    kept_.push_back(e);
+    if (kept != i) events[kept] = e;
+    ++kept;
     if (d.kind == Disposition::kAllowed) {
       in_region_.push_back(0);
       allowed_by_.push_back(d.rule);
@@ -136,6 +139,7 @@ void ReportSink::frame(ScannedFrame& frame) {
       ++record.intersections;
     }
   }
+  events.resize(kept);
   for (const auto& [key, count] : checked_here) {
     PairSummary& summary = pair(static_cast<EventKind>(std::get<0>(key)), std::get<1>(key), std::get<2>(key));
     ++summary.frames;
@@ -146,7 +150,7 @@ void ReportSink::frame(ScannedFrame& frame) {
   }
 
   frame_regions_.clear();
-  regions_.build(kept_, in_region_, *frame.x, record.index, frame_regions_, region_of_);
+  regions_.build(events, in_region_, *frame.x, record.index, frame_regions_, region_of_);
   for (RegionRecord& region : frame_regions_) {
     region.id = next_region_++;
     ++pair(region.kind, region.object_a, region.object_b).regions;
@@ -165,7 +169,7 @@ void ReportSink::frame(ScannedFrame& frame) {
   trailer_.regions += frame_regions_.size();
 
   if (writer_) writer_->write_frame(record);
-  std::size_t listed = kept_.size();
+  std::size_t listed = events.size();
   if (header_.settings.events != "all") {
     listed = 0;
   } else if (header_.settings.max_events > 0) {
@@ -173,14 +177,14 @@ void ReportSink::frame(ScannedFrame& frame) {
   }
   if (writer_) {
     writer_->write_events(listed, [&](std::size_t i) {
-      EventRecord out = event_record(kept_[i]);
+      EventRecord out = event_record(events[i]);
       out.region = region_of_[i] == kNone ? kNone : frame_regions_[region_of_[i]].id;
       out.allowed = allowed_by_[i];
       return out;
     });
   }
   trailer_.listed += listed;
-  trailer_.left_out += kept_.size() - listed;
+  trailer_.left_out += events.size() - listed;
   if (writer_) {
     for (const RegionRecord& region : frame_regions_) writer_->write_region(region);
   }

@@ -51,7 +51,6 @@ class ReportSink : public ScanSink {
   Trailer trailer_;
   std::map<PairKey, PairSummary> pairs_;
   // Scratch reused frame after frame.
-  std::vector<Event> kept_;
   std::vector<char> in_region_;
   std::vector<std::size_t> allowed_by_, region_of_;
   std::vector<RegionRecord> frame_regions_;
