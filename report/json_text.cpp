@@ -12,32 +12,38 @@ bool needs_escape(char c) { return c == '"' || c == '\\' || static_cast<unsigned
 
 }  // namespace
 
-// Millions of keys and strings go through here: each is written with one
-// resize and copy rather than a call per character.
+// Millions of keys and strings go through here: a short one is put
+// together on the stack and appended in one call rather than a call per
+// piece or per character.
 JsonText& JsonText::key(std::string_view name, bool first) {
   // keys are the schema's own names: nothing to escape
-  const std::size_t at = text_.size();
-  const std::size_t comma = first ? 0 : 1;
-  text_.resize(at + comma + name.size() + 3);
-  char* out = &text_[at];
+  char buffer[64];
+  if (name.size() + 4 > sizeof buffer) {
+    if (!first) text_.push_back(',');
+    text_.push_back('"');
+    text_.append(name);
+    text_.append("\":");
+    return *this;
+  }
+  char* out = buffer;
   if (!first) *out++ = ',';
   *out++ = '"';
   out = std::copy(name.begin(), name.end(), out);
-  out[0] = '"';
-  out[1] = ':';
+  *out++ = '"';
+  *out++ = ':';
+  text_.append(buffer, static_cast<std::size_t>(out - buffer));
   return *this;
 }
 
 JsonText& JsonText::string(std::string_view s) {
   static const char* const hex = "0123456789abcdef";
-  const std::size_t plain = static_cast<std::size_t>(std::find_if(s.begin(), s.end(), needs_escape) - s.begin());
-  if (plain == s.size()) {
-    const std::size_t at = text_.size();
-    text_.resize(at + s.size() + 2);
-    char* out = &text_[at];
+  char buffer[64];
+  if (s.size() + 2 <= sizeof buffer && std::none_of(s.begin(), s.end(), needs_escape)) {
+    char* out = buffer;
     *out++ = '"';
     out = std::copy(s.begin(), s.end(), out);
-    *out = '"';
+    *out++ = '"';
+    text_.append(buffer, static_cast<std::size_t>(out - buffer));
     return *this;
   }
   text_.push_back('"');
@@ -67,21 +73,21 @@ JsonText& JsonText::number(double x) {
   if (!std::isfinite(x)) return null();
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
-  text_.append(buffer, result.ptr);
+  text_.append(buffer, static_cast<std::size_t>(result.ptr - buffer));
   return *this;
 }
 
 JsonText& JsonText::number(std::size_t n) {
   char buffer[24];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, n);
-  text_.append(buffer, result.ptr);
+  text_.append(buffer, static_cast<std::size_t>(result.ptr - buffer));
   return *this;
 }
 
 JsonText& JsonText::number(int n) {
   char buffer[16];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, n);
-  text_.append(buffer, result.ptr);
+  text_.append(buffer, static_cast<std::size_t>(result.ptr - buffer));
   return *this;
 }
 

@@ -42,7 +42,7 @@ TEST(JsonText, StringsMatchACharacterByCharacterEscape) {
   const std::string alphabet = std::string("abcXYZ019 _-./\"\\\n\r\t\x01\x1f\x7f") + "\xc3\xa9";
   for (int round = 0; round < 2000; ++round) {
     std::string s;
-    const int length = static_cast<int>(random() % 40);
+    const int length = static_cast<int>(random() % 100);  // past the 62 characters written in one copy
     const bool plain = round % 2 == 0;  // half without anything to escape: the one-copy path
     for (int k = 0; k < length; ++k) {
       const char c = alphabet[random() % alphabet.size()];
@@ -59,6 +59,10 @@ TEST(JsonText, KeysWithAndWithoutTheComma) {
   JsonText text;
   text.raw("{").key("record", true).string("event").key("frame").number(std::size_t{12}).key("").null().raw("}");
   EXPECT_EQ(text.text(), R"({"record":"event","frame":12,"":null})");
+  const std::string long_name(70, 'k');  // longer than one copy takes
+  JsonText more;
+  more.key(long_name, true).null().key(long_name).null();
+  EXPECT_EQ(more.text(), "\"" + long_name + "\":null,\"" + long_name + "\":null");
 }
 
 }  // namespace
