@@ -18,10 +18,13 @@
 namespace snag::test {
 namespace {
 
-// Open MPI refuses root unless told; a 2-core machine needs oversubscription for 3 ranks.
+// Open MPI refuses root unless told; a 2-core machine needs oversubscription
+// for 3 ranks; containers that forbid one process reading another's memory
+// make shared memory's single copy warn (the ranks' messages are a few bytes).
 void allow_mpirun() {
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  setenv("OMPI_MCA_btl_vader_single_copy_mechanism", "none", 1);
 }
 
 ProcessResult mpirun(int ranks, const std::vector<std::string>& arguments) {
