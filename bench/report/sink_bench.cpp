@@ -15,7 +15,9 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <exception>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -56,7 +58,7 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr, "usage: %s T0 T1 [FRAMES] [RUNS]\n", argv[0]);
     return 2;
@@ -125,4 +127,16 @@ int main(int argc, char** argv) {
               frames, runs, static_cast<double>(events) / static_cast<double>(frames * runs), median(wall_ms),
               median(cpu_ms));
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::logic_error&) {  // std::stoul: not a number
+    std::fprintf(stderr, "%s: FRAMES and RUNS must be whole numbers\n", argv[0]);
+    return 2;
+  } catch (const std::exception& error) {  // a mesh that cannot be read, a count that is not one
+    std::fprintf(stderr, "%s: %s\n", argv[0], error.what());
+    return 2;
+  }
 }
