@@ -133,7 +133,7 @@ void print_tables(const json& report) {
     }
   }
 
-  std::printf("\nnarrow phase on the VSS candidates (collisions(): fast = no certifier, cert = exact certifier)\n");
+  std::printf("\nnarrow phase on the CPU back end's candidates (collisions(): fast = no certifier, cert = exact certifier)\n");
   std::printf("%-10s %9s %9s %7s %9s %9s %9s | %-26s %-26s %9s %9s %9s\n", "scene", "fast_s", "cert_s", "ratio",
               "filter_s", "certify_s", "narrow_x", "VF yes/no/unc", "EE yes/no/unc", "escal%", "certified",
               "cert_true");
