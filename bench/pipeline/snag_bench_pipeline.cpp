@@ -4,7 +4,7 @@
 //     force (below --brute-force-limit triangles), CCD and static, per-stage
 //     times, counts, the memory estimate and the peak RSS growth of each
 //     method measured alone in a forked child (child_process.hpp);
-//   - narrow phase on the VSS candidates: the CPU back end fast and
+//   - narrow phase on the CPU back end's candidates: the back end fast and
 //     certified (exact certification of uncertain answers);
 //   - CCD accuracy: the floating-point filter against exact CCD;
 //   - static detection: the back end's intersections() against CGAL's
