@@ -285,7 +285,7 @@ int main(int argc, char** argv) {
   app.add_option("-b,--backend", options.backend, "auto, cpu or cuda")
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
   app.add_option("-j,--threads", options.threads, "CPU threads (0 = all cores)");
-  app.add_option("--lambda", options.lambda, "Cell-size coefficient: cell = 3 x lambda x mean triangle radius")
+  app.add_option("--lambda", options.lambda, "Cell-size coefficient of the CUDA back end's grid: cell = 3 x lambda x mean triangle radius (the CPU back end's box grid does not use it)")
       ->check(CLI::Range(1.0001, 100.0));
   app.add_option("-r,--report", options.report,
                  "Write the report (JSON Lines, man snag-report(5)) to FILE ('-' = standard output)");
