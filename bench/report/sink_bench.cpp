@@ -7,7 +7,10 @@
 // number holds on a machine that other work shares. The report goes to
 // /dev/null.
 //
-//   snag-bench-report-sink T0 T1 [FRAMES] [RUNS]   (defaults 12 and 3)
+//   snag-bench-report-sink T0 T1 [FRAMES] [RUNS] [MAX_EVENTS]
+//
+// Defaults 12, 3 and snag-scan's --max-events default, 100000 (0: every
+// event listed).
 //
 // Prints one JSON object: events per frame, and per-frame milliseconds
 // (median over runs of each run's mean) of the sink, wall and CPU.
@@ -60,11 +63,12 @@ double median(std::vector<double> v) {
 
 int run(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: %s T0 T1 [FRAMES] [RUNS]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s T0 T1 [FRAMES] [RUNS] [MAX_EVENTS]\n", argv[0]);
     return 2;
   }
   const std::size_t frames = argc > 3 ? std::stoul(argv[3]) : 12;
   const std::size_t runs = argc > 4 ? std::stoul(argv[4]) : 3;
+  const std::size_t max_events = argc > 5 ? std::stoul(argv[5]) : 100000;
   if (frames < 2 || runs < 1) {
     std::fprintf(stderr, "%s: FRAMES must be at least 2 and RUNS at least 1\n", argv[0]);
     return 2;
@@ -91,6 +95,7 @@ int run(int argc, char** argv) {
                               object.triangles.size(), object.edges.size(), object.weld.method, 0.0});
   }
   header.frame_count = frames;
+  header.settings.max_events = max_events;
 
   std::vector<double> wall_ms, cpu_ms;
   std::size_t events = 0;
@@ -122,9 +127,9 @@ int run(int argc, char** argv) {
     wall_ms.push_back(1e3 * wall / static_cast<double>(frames));
     cpu_ms.push_back(1e3 * cpu / static_cast<double>(frames));
   }
-  std::printf("{\"frames\":%zu,\"runs\":%zu,\"events_per_frame\":%.0f,\"sink_wall_ms_per_frame\":%.2f,"
+  std::printf("{\"frames\":%zu,\"runs\":%zu,\"max_events\":%zu,\"events_per_frame\":%.0f,\"sink_wall_ms_per_frame\":%.2f,"
               "\"sink_cpu_ms_per_frame\":%.2f}\n",
-              frames, runs, static_cast<double>(events) / static_cast<double>(frames * runs), median(wall_ms),
+              frames, runs, max_events, static_cast<double>(events) / static_cast<double>(frames * runs), median(wall_ms),
               median(cpu_ms));
   return 0;
 }
@@ -133,7 +138,7 @@ int main(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const std::logic_error&) {  // std::stoul: not a number
-    std::fprintf(stderr, "%s: FRAMES and RUNS must be whole numbers\n", argv[0]);
+    std::fprintf(stderr, "%s: FRAMES, RUNS and MAX_EVENTS must be whole numbers\n", argv[0]);
     return 2;
   } catch (const std::exception& error) {  // a mesh that cannot be read, a count that is not one
     std::fprintf(stderr, "%s: %s\n", argv[0], error.what());
