@@ -4,6 +4,11 @@
 #include <limits>
 #include <numeric>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include "libcd/pipeline/event_objects.hpp"
 
 namespace snag::report {
@@ -13,6 +18,10 @@ namespace {
 struct Group {
   std::vector<std::size_t> events;
 };
+
+// Below this many events or faces a loop runs on the calling thread: most
+// groups are small, and a task costs more than their work.
+constexpr std::size_t kEventsPerTask = 2048;
 
 void grow(Bounds& bounds, const Vec3& p) {
   bounds.lo = {std::min(bounds.lo.x, p.x), std::min(bounds.lo.y, p.y), std::min(bounds.lo.z, p.z)};
@@ -33,10 +42,10 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
 
 RegionBuilder::RegionBuilder(const Scene& scene)
     : scene_(scene),
-      face_stamp_(scene.triangle_count(), 0),
-      vertex_stamp_(scene.vertex_count(), 0),
-      face_slot_(scene.triangle_count(), 0),
-      vertex_first_face_slot_(scene.vertex_count(), 0) {
+      face_stamp_(new std::atomic<std::uint32_t>[scene.triangle_count()]()),
+      vertex_face_(new std::atomic<Index>[scene.vertex_count()]()),
+      face_sets_(scene.triangle_count()),
+      region_of_root_(scene.triangle_count(), kNone) {
   const auto& triangles = scene.triangles();
   vertex_face_start_.assign(scene.vertex_count() + 1, 0);
   for (const Triangle& t : triangles)
@@ -79,12 +88,57 @@ void RegionBuilder::event_faces(const Event& e, std::vector<Index>& faces) const
   }
 }
 
-Index RegionBuilder::find(Index slot) {
-  while (parent_[slot] != slot) {
-    parent_[slot] = parent_[parent_[slot]];
-    slot = parent_[slot];
+// The first of event_faces(e): every edge of a scene lies on a face.
+Index RegionBuilder::first_face(const Event& e) const {
+  if (e.kind == EventKind::kIntersection) return e.a;
+  if (e.type == ContactType::kVertexFace) return e.b;
+  const Index on_a = edge_face_start_[e.a];
+  return on_a < edge_face_start_[e.a + 1] ? edge_faces_[on_a] : edge_faces_[edge_face_start_[e.b]];
+}
+
+void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group) {
+  if (++stamp_ == 0) {  // after 2^32 groups: start the stamps again
+    for (std::size_t f = 0; f < scene_.triangle_count(); ++f) face_stamp_[f].store(0, std::memory_order_relaxed);
+    stamp_ = 1;
   }
-  return slot;
+  const auto& triangles = scene_.triangles();
+  const tbb::blocked_range<std::size_t> all_events(0, group.size(), kEventsPerTask);
+  // Each face is claimed by the one thread that stamps it first, which makes
+  // it a set of its own and lists it; every vertex keeps one of its faces.
+  tbb::enumerable_thread_specific<std::vector<Index>> claimed, faces;
+  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<Index>& mine = claimed.local();
+    std::vector<Index>& event = faces.local();
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      event_faces(events[group[k]], event);
+      for (Index f : event) {
+        std::atomic<std::uint32_t>& stamp = face_stamp_[f];
+        if (stamp.load(std::memory_order_relaxed) == stamp_ || stamp.exchange(stamp_) == stamp_) continue;
+        face_sets_.reset(f);
+        for (Index v : triangles[f]) vertex_face_[v].store(f, std::memory_order_relaxed);
+        mine.push_back(f);
+      }
+    }
+  });
+  touched_.clear();
+  for (const std::vector<Index>& mine : claimed) touched_.insert(touched_.end(), mine.begin(), mine.end());
+  tbb::parallel_sort(touched_.begin(), touched_.end());
+  // The faces of one event are one region; so are faces that share a vertex.
+  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<Index>& event = faces.local();
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      event_faces(events[group[k]], event);
+      for (std::size_t j = 1; j < event.size(); ++j) face_sets_.unite(event[0], event[j]);
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touched_.size(), kEventsPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t k = range.begin(); k < range.end(); ++k) {
+                        const Index f = touched_[k];
+                        for (Index v : triangles[f])
+                          face_sets_.unite(f, vertex_face_[v].load(std::memory_order_relaxed));
+                      }
+                    });
 }
 
 void RegionBuilder::build(const std::vector<Event>& events, const std::vector<char>& in_region,
@@ -108,54 +162,32 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
   }
   const std::size_t first_region = regions.size();
   std::vector<std::size_t> first_event;  // of each new region
-  std::vector<Index> faces;
-  std::vector<Index> event_slot;
   for (const auto& [key, group] : groups) {
     const EventKind kind = static_cast<EventKind>(std::get<0>(key));
     const std::size_t object_a = std::get<1>(key), object_b = std::get<2>(key);
-    ++stamp_;
-    parent_.clear();
-    slot_face_.clear();
-    event_slot.clear();
-    auto unite = [&](Index s, Index t) {
-      s = find(s);
-      t = find(t);
-      if (s != t) parent_[std::max(s, t)] = std::min(s, t);
-    };
-    for (std::size_t i : group.events) {
-      event_faces(events[i], faces);
-      Index first_slot = 0;
-      for (std::size_t k = 0; k < faces.size(); ++k) {
-        const Index f = faces[k];
-        if (face_stamp_[f] != stamp_) {
-          face_stamp_[f] = stamp_;
-          face_slot_[f] = static_cast<Index>(slot_face_.size());
-          parent_.push_back(face_slot_[f]);
-          slot_face_.push_back(f);
-          for (Index v : scene_.triangles()[f]) {
-            if (vertex_stamp_[v] != stamp_) {
-              vertex_stamp_[v] = stamp_;
-              vertex_first_face_slot_[v] = face_slot_[f];
-            } else {
-              unite(face_slot_[f], vertex_first_face_slot_[v]);
-            }
-          }
-        }
-        if (k == 0) {
-          first_slot = face_slot_[f];
-        } else {
-          unite(first_slot, face_slot_[f]);
-        }
-      }
-      event_slot.push_back(first_slot);
-    }
-    // One region per component, in the order of its first event.
-    std::vector<std::size_t> region_of_root(slot_face_.size(), kNone);
+    join_faces(events, group.events);
+    // Roots after every join: the same for any number of threads.
+    event_root_.resize(group.events.size());
+    touched_root_.resize(touched_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group.events.size(), kEventsPerTask),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t k = range.begin(); k < range.end(); ++k)
+                          event_root_[k] = face_sets_.find(first_face(events[group.events[k]]));
+                      });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touched_.size(), kEventsPerTask),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t k = range.begin(); k < range.end(); ++k) {
+                          touched_root_[k] = face_sets_.find(touched_[k]);
+                          region_of_root_[touched_[k]] = kNone;
+                        }
+                      });
+    // One region per set, in the order of its first event; its events added
+    // up in event order (the centroid's sum is rounded as it always was).
     for (std::size_t k = 0; k < group.events.size(); ++k) {
       const std::size_t i = group.events[k];
-      const Index root = find(event_slot[k]);
-      if (region_of_root[root] == kNone) {
-        region_of_root[root] = regions.size();
+      std::size_t& region_index = region_of_root_[event_root_[k]];
+      if (region_index == kNone) {
+        region_index = regions.size();
         RegionRecord region;
         region.kind = kind;
         region.object_a = object_a;
@@ -166,9 +198,9 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
         regions.push_back(std::move(region));
         first_event.push_back(i);
       }
-      RegionRecord& region = regions[region_of_root[root]];
+      RegionRecord& region = regions[region_index];
       const Event& e = events[i];
-      region_of[i] = region_of_root[root];
+      region_of[i] = region_index;
       ++region.events;
       region.centroid = region.centroid + e.position;
       if (kind == EventKind::kCollision) {
@@ -176,12 +208,12 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
         region.toi = std::min(region.toi, static_cast<double>(e.frame) + e.toi_lo);
       }
     }
+    // Faces in ascending order, so that each region's lists come sorted.
     const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
-    for (Index slot = 0; slot < slot_face_.size(); ++slot) {
-      RegionRecord& region = regions[region_of_root[find(slot)]];
-      const Index f = slot_face_[slot];
-      const bool on_a = scene_.object_of_triangle(f) == object_a;
-      if (on_a) {
+    for (std::size_t k = 0; k < touched_.size(); ++k) {
+      RegionRecord& region = regions[region_of_root_[touched_root_[k]]];
+      const Index f = touched_[k];
+      if (scene_.object_of_triangle(f) == object_a) {
         region.faces_a.push_back(f - base_a);
       } else {
         region.faces_b.push_back(f - base_b);
@@ -205,8 +237,6 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
   }
   for (std::size_t k = 0; k < count; ++k) {
     RegionRecord& region = sorted[k];
-    std::sort(region.faces_a.begin(), region.faces_a.end());
-    std::sort(region.faces_b.begin(), region.faces_b.end());
     region.face_count = region.faces_a.size() + region.faces_b.size();
     region.centroid = (1.0 / static_cast<double>(region.events)) * region.centroid;
     regions[first_region + k] = std::move(region);

@@ -14,13 +14,16 @@
 // others' counts and frames, and the others end with `merged_into` set.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <tuple>
 #include <vector>
 
 #include "libcd/pipeline/event.hpp"
 #include "libcd/scene/scene.hpp"
+#include "report/concurrent_union_find.hpp"
 #include "report/records.hpp"
 
 namespace snag::report {
@@ -30,6 +33,12 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
 
 /// Builds the regions of one frame. Holds scene-sized scratch arrays so that
 /// each frame costs time in the number of its events, not of the scene.
+///
+/// The faces of each pair and kind are joined on all threads at once (a
+/// union-find whose roots are the smallest face of each region, so that the
+/// regions do not depend on the threads); each region's events are then
+/// added up in event order and its faces listed in face order, one thread
+/// per group, so that the result is the same for any number of threads.
 class RegionBuilder {
  public:
   explicit RegionBuilder(const Scene& scene);
@@ -43,16 +52,22 @@ class RegionBuilder {
 
  private:
   void event_faces(const Event& event, std::vector<Index>& faces) const;
-  Index find(Index slot);
+  Index first_face(const Event& event) const;
+  /// Stamps the faces of the group's events, lists them in touched_ (ascending)
+  /// and joins those that an event names together or that share a vertex.
+  void join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group);
 
   const Scene& scene_;
   std::vector<Index> vertex_face_start_, vertex_faces_;  // CSR: faces around each vertex
   std::vector<Index> edge_face_start_, edge_faces_;      // CSR: faces on each edge
   // Scratch, stamped per group so that it is never cleared.
-  std::vector<std::uint32_t> face_stamp_, vertex_stamp_;
-  std::vector<Index> face_slot_, vertex_first_face_slot_;
+  std::unique_ptr<std::atomic<std::uint32_t>[]> face_stamp_;
+  std::unique_ptr<std::atomic<Index>[]> vertex_face_;  // a face of the group around each vertex
+  ConcurrentUnionFind<Index> face_sets_;
+  std::vector<std::size_t> region_of_root_;  // by face: set at the group's roots
   std::uint32_t stamp_ = 0;
-  std::vector<Index> parent_, slot_face_;
+  std::vector<Index> touched_, touched_root_;  // the group's faces, ascending, and their roots
+  std::vector<Index> event_root_;              // the root of each of the group's events
 };
 
 /// Gives regions their track ids frame after frame and says when tracks end.
