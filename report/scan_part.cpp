@@ -27,17 +27,36 @@ InputError part_error(const std::string& path, std::size_t byte, const std::stri
   return InputError(where, message);
 }
 
+// A part read from its start, possibly while its writer still writes it:
+// at the end of what is there, `wait` (when given) says whether more may come.
 class PartFile {
  public:
-  explicit PartFile(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb")) {
-    if (!file_) throw part_error(path, kNone, std::string("cannot open the part: ") + std::strerror(errno));
+  PartFile(const std::string& path, PartWait wait) : path_(path), wait_(std::move(wait)) {
+    bool finished = false;
+    while (!(file_ = std::fopen(path.c_str(), "rb"))) {
+      // Not there yet: its writer has not started; missing after it finished: gone.
+      if (errno != ENOENT || !wait_ || finished) {
+        throw part_error(path, kNone, std::string("cannot open the part: ") + std::strerror(errno));
+      }
+      finished = wait_();
+    }
   }
   ~PartFile() { std::fclose(file_); }
   PartFile(const PartFile&) = delete;
   PartFile& operator=(const PartFile&) = delete;
 
   void read(void* data, std::size_t bytes) {
-    if (std::fread(data, 1, bytes, file_) != bytes) throw part_error(path_, offset_, "the part is truncated");
+    auto* to = static_cast<char*>(data);
+    std::size_t got = std::fread(to, 1, bytes, file_);
+    // At the end of what was written: wait for the writer, then read once
+    // more after it has finished before calling the part truncated.
+    bool finished = !wait_;
+    while (got < bytes) {
+      if (std::ferror(file_) || finished) throw part_error(path_, offset_ + got, "the part is truncated");
+      finished = wait_();
+      std::clearerr(file_);
+      got += std::fread(to + got, 1, bytes - got, file_);
+    }
     offset_ += bytes;
   }
   template <typename T>
@@ -58,7 +77,8 @@ class PartFile {
 
  private:
   std::string path_;
-  std::FILE* file_;
+  PartWait wait_;
+  std::FILE* file_ = nullptr;
   std::size_t offset_ = 0;
 };
 
@@ -90,6 +110,10 @@ void PartWriter::frame(ScannedFrame& frame) {
   write(&frame.summary, sizeof frame.summary);
   write(&count, sizeof count);
   write(events.data(), count * sizeof(Event));
+  // Rank 0 merges the part while it is written (replay_part's wait_for_writer).
+  if (std::fflush(file_) != 0) {
+    throw part_error(path_, kNone, std::string("cannot write the part: ") + std::strerror(errno));
+  }
 }
 
 void PartWriter::finish(const PartTotals& totals) {
@@ -106,8 +130,8 @@ void PartWriter::finish(const PartTotals& totals) {
 }
 
 PartTotals replay_part(const std::string& path, const FrameSource& source, ScanSink& sink,
-                       const std::function<void(std::size_t)>& progress) {
-  PartFile part(path);
+                       const std::function<void(std::size_t)>& progress, const PartWait& wait_for_writer) {
+  PartFile part(path, wait_for_writer);
   char magic[kMagicSize];
   part.read(magic, kMagicSize);
   if (std::memcmp(magic, kMagic, kMagicSize) != 0) throw part_error(path, 0, "not a snag scan part");

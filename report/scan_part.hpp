@@ -32,8 +32,9 @@ struct PartTotals {
 using PartRedecide =
     std::function<void(const std::vector<Vec3>&, const std::vector<Vec3>&, std::vector<Event>&)>;
 
-/// A ScanSink that stores each frame it gets. Throws InputError naming the
-/// file when it cannot be written.
+/// A ScanSink that stores each frame it gets, flushed frame by frame so that
+/// a reader can follow it. Throws InputError naming the file when it cannot
+/// be written.
 class PartWriter : public ScanSink {
  public:
   explicit PartWriter(const std::string& path, PartRedecide redecide = {});
@@ -52,15 +53,25 @@ class PartWriter : public ScanSink {
   PartRedecide redecide_;
 };
 
+/// Called by replay_part() when it has read all that was written of a part
+/// still being written (or when the part is not there yet): waits a little
+/// and returns whether the writer has finished (closed the part), so that
+/// what is missing after one more read is missing for good.
+using PartWait = std::function<bool()>;
+
 /// Replays a part into `sink`, frame by frame, reading each frame that has
 /// events from `source` (the whole cache, positions as in the part) for the
 /// sink's regions. The frames carry no next positions: the part's events
 /// were re-decided already. `progress` gets each frame's position. Returns
 /// the part's totals. The sink runs on a thread of its own, one frame at
 /// a time, in order, while the next frame is read (as in scan_cache()).
+/// With `wait_for_writer`, the part may still be being written (PartWriter
+/// flushes each frame): the replay follows the writer, so that the merge
+/// of a part overlaps its scan; without, the part must be complete.
 /// Throws InputError naming the file when it is truncated or not a part,
-/// and what the sink or the source throws.
+/// and what the sink, the source or `wait_for_writer` throws.
 PartTotals replay_part(const std::string& path, const FrameSource& source, ScanSink& sink,
-                       const std::function<void(std::size_t)>& progress = {});
+                       const std::function<void(std::size_t)>& progress = {},
+                       const PartWait& wait_for_writer = {});
 
 }  // namespace snag::report

@@ -167,7 +167,7 @@ int scan(const snag::tools::CacheArguments& cache, const snag::tools::RuleArgume
 #if SNAG_HAVE_MPI
   std::vector<snag::tools::StepRange> ranges;
   if (run) {
-    ranges = snag::tools::split_steps(source->frame_count(), static_cast<std::size_t>(run->size()));
+    ranges = run->split(source->frame_count(), backend->name());
     if (run->rank() != 0) {
       run->scan_part(*source, ranges, *backend, scan, redecide);
       return snag::tools::kExitClean;

@@ -5,8 +5,13 @@
 // times. The oracle is the single scan itself.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -51,6 +56,88 @@ TEST(SplitSteps, CoversEveryStepOnceInNearlyEqualRanges) {
     }
   }
 }
+
+// With a merge cost, the ranges still cover every step once, each used
+// range has a step, and the steps follow the weights (1 - cost)^(used - 1 - r)
+// within rounding where even the first range's share is two steps or more.
+TEST(SplitSteps, MergeCostShrinksTheEarlierRangesGeometrically) {
+  for (const double cost : {0.1, 0.2, 0.5, 0.9}) {
+    for (std::size_t frames = 1; frames <= 200; frames += 7) {
+      for (std::size_t parts = 1; parts <= 5; ++parts) {
+        const std::vector<StepRange> ranges = split_steps(frames, parts, cost);
+        const std::size_t steps = frames - 1, used = std::max<std::size_t>(1, std::min(parts, steps));
+        double total = 0;
+        for (std::size_t r = 0; r < used; ++r) total += std::pow(1 - cost, static_cast<double>(used - 1 - r));
+        // The first range's ideal share; below two steps, the one-step minimum moves the boundaries.
+        const double smallest = static_cast<double>(steps) * std::pow(1 - cost, static_cast<double>(used - 1)) / total;
+        std::size_t next_step = 0;
+        for (std::size_t r = 0; r < parts; ++r) {
+          ASSERT_EQ(ranges[r].empty, r >= used) << frames << " frames, " << parts << " parts, range " << r;
+          if (ranges[r].empty) continue;
+          EXPECT_EQ(ranges[r].first, next_step);
+          EXPECT_EQ(ranges[r].overlap, r + 1 < used);
+          next_step = ranges[r].last;
+          if (steps == 0) continue;
+          const std::size_t length = ranges[r].last - ranges[r].first;
+          EXPECT_GE(length, 1u);
+          const double ideal = static_cast<double>(steps) * std::pow(1 - cost, static_cast<double>(used - 1 - r)) / total;
+          if (smallest >= 2) EXPECT_LT(std::abs(static_cast<double>(length) - ideal), 2.0) << frames << " " << r;
+        }
+        EXPECT_EQ(next_step, steps);
+      }
+    }
+  }
+  // Cost 0 is the even split.
+  for (std::size_t frames = 1; frames <= 30; ++frames) {
+    for (std::size_t parts = 1; parts <= 6; ++parts) {
+      const auto even = split_steps(frames, parts), costless = split_steps(frames, parts, 0.0);
+      for (std::size_t r = 0; r < parts; ++r) EXPECT_EQ(even[r].last, costless[r].last);
+    }
+  }
+}
+
+// Copies a file into place in pieces of `piece` bytes, a piece a
+// millisecond, on a thread of its own: a part's writer for replay_part().
+// `stop_at`: the copy ends there, as a writer that stopped short.
+class SlowCopy {
+ public:
+  SlowCopy(const std::string& from, const std::string& to, std::size_t piece = 4093,
+           std::size_t stop_at = std::string::npos) {
+    std::ifstream in(from, std::ios::binary);
+    bytes_.assign(std::istreambuf_iterator<char>(in), {});
+    bytes_.resize(std::min(bytes_.size(), stop_at));
+    thread_ = std::thread([this, to, piece] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));  // the reader comes first
+      std::ofstream out(to, std::ios::binary);
+      for (std::size_t at = 0; at < bytes_.size(); at += piece) {
+        out.write(bytes_.data() + at, static_cast<std::streamsize>(std::min(piece, bytes_.size() - at)));
+        out.flush();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+      out.close();
+      finished_ = true;
+    });
+  }
+  ~SlowCopy() { thread_.join(); }
+  SlowCopy(const SlowCopy&) = delete;
+  SlowCopy& operator=(const SlowCopy&) = delete;
+
+  report::PartWait wait() {
+    return [this] {
+      const bool finished = finished_;  // before the pause: what was written by then is there
+      if (!finished) std::this_thread::sleep_for(std::chrono::microseconds(200));
+      ++waits_;
+      return finished;
+    };
+  }
+  std::size_t waits() const { return waits_; }
+
+ private:
+  std::string bytes_;
+  std::thread thread_;
+  std::atomic<bool> finished_{false};
+  std::atomic<std::size_t> waits_{0};
+};
 
 struct Scanned {
   std::string report;
@@ -99,8 +186,11 @@ class SplitScan : public ::testing::Test {
     return {out.str(), stages_json(totals)};
   }
 
-  Scanned scan_split(std::size_t parts, const std::string& dir) {
-    const std::vector<StepRange> ranges = split_steps(source_->frame_count(), parts);
+  // Each part is written whole, then replayed: by replay_part() alone, or,
+  // with `following`, while a thread copies it into place a few bytes at a
+  // time (records cut anywhere), as a rank writes it while rank 0 reads.
+  Scanned scan_split(std::size_t parts, const std::string& dir, bool following = false, double merge_cost = 0) {
+    const std::vector<StepRange> ranges = split_steps(source_->frame_count(), parts, merge_cost);
     std::ostringstream out;
     report::ReportWriter writer(out);
     report::ReportSink sink(source_->scene(), header_, *rules_, &writer, redecide_);
@@ -114,7 +204,15 @@ class SplitScan : public ::testing::Test {
     const ScanTotals first = scan_range(*source_, ranges[0], *backend_, ScanSettings{}, sink);
     stages.push_back(stages_json(first));
     for (std::size_t r = 1; r < parts; ++r) {
-      const std::string part_stages = report::replay_part(dir + "/part-" + std::to_string(r), *source_, sink).stages_json;
+      const std::string whole_part = dir + "/part-" + std::to_string(r);
+      std::string part_stages;
+      if (following) {
+        SlowCopy copy(whole_part, whole_part + "-following");
+        part_stages = report::replay_part(whole_part + "-following", *source_, sink, {}, copy.wait()).stages_json;
+        EXPECT_GT(copy.waits(), 1u) << "the reader did not wait for the writer";
+      } else {
+        part_stages = report::replay_part(whole_part, *source_, sink).stages_json;
+      }
       // As snag-scan does: a range with nothing to scan says nothing of the stages.
       if (!ranges[r].empty) stages.push_back(part_stages);
     }
@@ -161,6 +259,52 @@ TEST_F(SplitScan, ThreeRangesGiveTheSingleScanReport) {
   ASSERT_TRUE(crossing) << "no track crosses a range boundary: the test checks nothing there";
   EXPECT_EQ(split.stages_json, whole.stages_json);
   EXPECT_EQ(split.report, whole.report);
+}
+
+// The parts read while they are written, over uneven ranges (rank 0's
+// smaller first range), give the same report.
+TEST_F(SplitScan, PartsFollowedWhileWrittenGiveTheSingleScanReport) {
+  const Scanned whole = scan_whole();
+  const std::string dir = temporary_dir();
+  const Scanned split = scan_split(3, dir, true, 0.3);
+  EXPECT_EQ(split.stages_json, whole.stages_json);
+  EXPECT_EQ(split.report, whole.report);
+}
+
+// A writer that finishes short, or never writes its part: the reader says so
+// instead of waiting for ever.
+TEST_F(SplitScan, PartFollowedToAnEarlyEndIsTruncated) {
+  open("20:24");
+  const std::string dir = temporary_dir();
+  const std::string path = dir + "/part-1";
+  {
+    report::PartWriter part(path, redecide_);
+    const ScanTotals totals = scan_range(*source_, split_steps(source_->frame_count(), 2)[1], *backend_,
+                                         ScanSettings{}, part);
+    part.finish({totals.frames, stages_json(totals), "{}"});
+  }
+  report::ReportSink sink(source_->scene(), header_, *rules_, nullptr);
+  const std::size_t size = std::filesystem::file_size(path);
+  {
+    SlowCopy copy(path, path + "-short", 997, size / 2);
+    try {
+      report::replay_part(path + "-short", *source_, sink, {}, copy.wait());
+      FAIL() << "a part that ended short was replayed";
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find(path + "-short"), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find("truncated"), std::string::npos) << error.what();
+    }
+    EXPECT_GT(copy.waits(), 1u) << "the reader did not wait for the writer";
+  }
+  std::size_t waits = 0;
+  try {
+    report::replay_part(dir + "/never", *source_, sink, {}, [&] { return ++waits >= 3; });
+    FAIL() << "a part that was never written was replayed";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(dir + "/never: cannot open the part"), std::string::npos)
+        << error.what();
+  }
+  EXPECT_EQ(waits, 3u);
 }
 
 TEST_F(SplitScan, MoreRangesThanStepsGiveTheSingleScanReport) {

@@ -103,6 +103,26 @@ TEST(SnagScanMpi, LongCacheReportIsTheSingleProcessOnesAtThreeRanks) {
                      {3});
 }
 
+// Rank 0 merging at half a scan's cost: ranges of 2, 6 and 12 of the
+// sample's 20 steps, each merged while its rank writes it.
+TEST(SnagScanMpi, UnevenRangesForRankZerosMergeGiveTheSingleProcessReport) {
+  setenv("SNAG_MPI_MERGE_COST", "0.5", 1);
+  expect_same_report({"--manifest", kSampleDir + "/scene.yaml", "-b", "cpu", "-j", "1", "--frames", "16:36",
+                      "--max-events", "6000"},
+                     {3});
+  unsetenv("SNAG_MPI_MERGE_COST");
+}
+
+TEST(SnagScanMpi, BadMergeCostIsAUsageError) {
+  setenv("SNAG_MPI_MERGE_COST", "1.5", 1);
+  TemporaryDirectory dir;
+  const ProcessResult run = mpirun(2, with(sample_pc2_inputs(), {"-b", "cpu", "-q", "-r", dir.path("r.jsonl")}));
+  unsetenv("SNAG_MPI_MERGE_COST");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.err, "snag-scan: error: rank 0: SNAG_MPI_MERGE_COST: expected a number from 0 to 0.9, not '1.5'\n");
+  expect_only(dir.path(), {});
+}
+
 // Two steps over three ranks: the third has nothing to scan.
 TEST(SnagScanMpi, MoreRanksThanStepsGiveTheSingleProcessReport) {
   expect_same_report(with(sample_pc2_inputs(), {"-b", "cpu", "-j", "1", "--frames", "24:26"}), {3});

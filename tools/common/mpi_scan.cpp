@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <new>
+#include <thread>
 
 #include "libcd/core/error.hpp"
 #include "snag/config.hpp"
@@ -33,6 +34,10 @@ namespace {
 constexpr int kTagDone = 1;
 constexpr int kTagEnd = 2;
 enum Ending : int { kNotYet = -1, kFinished = 0, kFailed = 1, kStopped = 2 };
+
+// Rank 0's merge time per frame over a rank's scan time per frame (Run::split).
+constexpr double kCpuMergeCost = 0.02;
+constexpr double kCudaMergeCost = 0.2;
 
 // Rank 0 learnt that another rank failed.
 struct RankFailed {
@@ -255,6 +260,20 @@ void Run::stop_everyone() {
   }
 }
 
+std::vector<StepRange> Run::split(std::size_t frame_count, const std::string& backend) const {
+  // Rank 0's time to merge a frame of a part over a rank's time to scan it,
+  // measured on the long cloth (scripts/mpi-scaling.sh; man snag-scan(1)).
+  double merge_cost = backend == "cuda" ? kCudaMergeCost : kCpuMergeCost;
+  if (const char* given = std::getenv("SNAG_MPI_MERGE_COST")) {
+    char* end = nullptr;
+    merge_cost = std::strtod(given, &end);
+    if (end == given || *end != '\0' || !(merge_cost >= 0 && merge_cost <= 0.9)) {
+      throw UsageError(std::string("SNAG_MPI_MERGE_COST: expected a number from 0 to 0.9, not '") + given + "'");
+    }
+  }
+  return split_steps(frame_count, static_cast<std::size_t>(size_), merge_cost);
+}
+
 void Run::scan_part(const FrameSource& source, const std::vector<StepRange>& ranges, Backend& backend,
                     const ScanSettings& settings, report::PartRedecide redecide) {
   report::PartWriter part(part_path(rank_), std::move(redecide));
@@ -277,12 +296,26 @@ Run::Totals Run::scan_and_merge(const FrameSource& source, const std::vector<Ste
     stages.push_back(stages_json(own));
     timing.push_back(timing_json(own));
   }
+  // Each part is merged while its rank still writes it: rank 0 follows the
+  // rank's frames as they come, and only what is left of the last part when
+  // its rank finishes comes after the scan.
   for (int r = 1; r < size_; ++r) {
+    auto wait_for_writer = [this, r] {
+      poll_messages();  // throws when a rank failed
+      if (done_[r] == kNotYet) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        poll_messages();
+      }
+      return done_[r] != kNotYet;
+    };
+    const report::PartTotals part = report::replay_part(
+        part_path(r), source, sink,
+        [&](std::size_t position) {
+          poll_messages();
+          if (progress) progress(position + 1, frame_count);
+        },
+        wait_for_writer);
     wait_for(r);
-    const report::PartTotals part = report::replay_part(part_path(r), source, sink, [&](std::size_t position) {
-      poll_messages();
-      if (progress) progress(position + 1, frame_count);
-    });
     std::filesystem::remove(part_path(r));
     if (ranges[r].empty) continue;
     stages.push_back(part.stages_json);

@@ -2,7 +2,9 @@
 // on the GPU its local rank picks, or on the CPU, and stores its frames in a
 // part (report/scan_part.hpp); rank 0 scans the first range straight into
 // the report's sink, then replays the other parts in order into it, so that
-// one report comes out, identical to one process's but for the times.
+// one report comes out, identical to one process's but for the times. Rank
+// 0 replays a part while its rank still writes it, and scans a smaller
+// range than the others (split_steps' first_share) to make time for that.
 //
 // Failure: a rank that throws tells rank 0 (its exit code and message);
 // rank 0 stops the others, removes the parts and the unfinished report, and
@@ -53,6 +55,12 @@ class Run {
   /// the run makes no parts.
   int run(const char* tool, const std::string& parts_near, const std::function<int()>& body);
 
+  /// The ranges of a scan of `frame_count` frames over this run's ranks:
+  /// split_steps() at rank 0's merge cost on back end `backend` (its name),
+  /// SNAG_MPI_MERGE_COST when set (a number in [0, 0.9]; else UsageError),
+  /// else the cost measured on that back end (man snag-scan(1)).
+  std::vector<StepRange> split(std::size_t frame_count, const std::string& backend) const;
+
   /// Ranks > 0: scans this rank's range of `ranges` (split_steps over
   /// size()) into its part, re-deciding each step's events with
   /// `redecide`; stops (throws) when rank 0 says so.
@@ -65,7 +73,8 @@ class Run {
     double total_seconds = 0;
   };
   /// Rank 0: scans the first of `ranges` into `sink`, then each other rank's
-  /// part as it is finished, in rank order. Throws what it or a rank threw.
+  /// part in rank order, following it while its rank writes it. Throws what
+  /// it or a rank threw.
   Totals scan_and_merge(const FrameSource& source, const std::vector<StepRange>& ranges, Backend& backend,
                         const ScanSettings& settings, ScanSink& sink, const ProgressCallback& progress);
 

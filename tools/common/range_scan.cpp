@@ -1,5 +1,8 @@
 #include "tools/common/range_scan.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace snag::tools {
 
 namespace {
@@ -66,7 +69,7 @@ class WindowSink : public ScanSink {
 
 }  // namespace
 
-std::vector<StepRange> split_steps(std::size_t frame_count, std::size_t parts) {
+std::vector<StepRange> split_steps(std::size_t frame_count, std::size_t parts, double merge_cost) {
   std::vector<StepRange> ranges(parts);
   if (frame_count == 0 || parts == 0) return ranges;
   const std::size_t steps = frame_count - 1;
@@ -75,9 +78,16 @@ std::vector<StepRange> split_steps(std::size_t frame_count, std::size_t parts) {
     return ranges;
   }
   const std::size_t used = std::min(parts, steps);
+  const double ratio = 1.0 - std::clamp(merge_cost, 0.0, 0.9);
+  std::vector<double> before(used + 1, 0.0);  // the weights of the ranges before each
+  for (std::size_t r = 0; r < used; ++r) before[r + 1] = before[r] + std::pow(ratio, static_cast<double>(used - 1 - r));
+  std::size_t first = 0;
   for (std::size_t r = 0; r < used; ++r) {
-    const std::size_t first = steps * r / used, last = steps * (r + 1) / used;
+    const auto ideal = static_cast<std::size_t>(static_cast<double>(steps) * before[r + 1] / before[used]);
+    // At least one step here and one for each range after.
+    const std::size_t last = r + 1 == used ? steps : std::clamp(ideal, first + 1, steps - (used - 1 - r));
     ranges[r] = {first, last, r + 1 < used, false};
+    first = last;
   }
   return ranges;
 }

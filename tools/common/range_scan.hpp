@@ -21,10 +21,17 @@ struct StepRange {
   bool empty = true;  ///< nothing to scan: more ranges than steps
 };
 
-/// Splits `frame_count` frames into `parts` ranges of nearly equal step
-/// counts, in order; ranges beyond the number of steps are empty (one frame
-/// and no step: the first range holds it).
-std::vector<StepRange> split_steps(std::size_t frame_count, std::size_t parts);
+/// Splits `frame_count` frames into `parts` ranges, in order, for one
+/// process that takes the ranges' frames in order after scanning the first
+/// range itself, at `merge_cost` (in [0, 0.9]) of a scan's time per frame.
+/// Range r gets steps in proportion to (1 - merge_cost)^(parts - 1 - r), so
+/// that the taker, following each range as it is scanned, ends each one
+/// when its scanner does (range r takes (1 - merge_cost) of range r + 1's
+/// time to scan, and merge_cost of it to take); 0: nearly equal step
+/// counts. Every range that is used gets at least one step; ranges beyond
+/// the number of steps are empty (one frame and no step: the first range
+/// holds it).
+std::vector<StepRange> split_steps(std::size_t frame_count, std::size_t parts, double merge_cost = 0);
 
 /// Scans `range` of `source` as scan_cache() would scan those frames, with
 /// the sink getting the frames' positions in `source` and not the overlap
