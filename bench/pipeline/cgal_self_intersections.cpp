@@ -1,5 +1,7 @@
 #include "bench/pipeline/cgal_self_intersections.hpp"
 
+#include "bench/pipeline/process_cpu_time.hpp"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -67,7 +69,8 @@ bool CgalSelfIntersectionRunner::repaired() const { return impl_->repaired; }
 
 bool CgalSelfIntersectionRunner::parallel() { return true; }  // enforced by the #error above
 
-CgalSelfIntersections CgalSelfIntersectionRunner::run(const std::vector<Vec3>& positions, double& seconds) {
+CgalSelfIntersections CgalSelfIntersectionRunner::run(const std::vector<Vec3>& positions, double& seconds,
+                                                      double& cpu_seconds) {
   Mesh& mesh = impl_->mesh;
   if (impl_->repaired) {
     for (Mesh::Vertex_index v : mesh.vertices()) {
@@ -81,9 +84,11 @@ CgalSelfIntersections CgalSelfIntersectionRunner::run(const std::vector<Vec3>& p
     }
   }
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> found;
+  const double cpu_start = process_cpu_seconds();
   const auto start = std::chrono::steady_clock::now();
   PMP::self_intersections<CGAL::Parallel_if_available_tag>(mesh, std::back_inserter(found));
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  cpu_seconds = process_cpu_seconds() - cpu_start;
   CgalSelfIntersections result;
   for (const auto& [f, g] : found) {
     const Index a = Index(std::size_t(f)), b = Index(std::size_t(g));

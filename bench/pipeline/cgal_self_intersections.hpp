@@ -37,8 +37,9 @@ class CgalSelfIntersectionRunner {
   static bool parallel();
 
   /// Sets the mesh's points to `positions` (#V) and runs self_intersections.
-  /// `seconds` receives the time of the self_intersections call alone.
-  CgalSelfIntersections run(const std::vector<Vec3>& positions, double& seconds);
+  /// `seconds` receives the wall time of the self_intersections call alone,
+  /// `cpu_seconds` the process's CPU time (all threads) during it.
+  CgalSelfIntersections run(const std::vector<Vec3>& positions, double& seconds, double& cpu_seconds);
 
  private:
   struct Impl;

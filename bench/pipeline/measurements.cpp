@@ -11,8 +11,9 @@
 #include <vector>
 
 #include "bench/pipeline/cgal_self_intersections.hpp"
+#include "bench/pipeline/process_cpu_time.hpp"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
-#include "libcd/narrow_phase/triangle_triangle.hpp"
+#include "libcd/narrow_phase/triangle_triangle_frame.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
 #include "libcd/pipeline/backend.hpp"
 #include "validate/exact_ccd.hpp"
@@ -93,36 +94,30 @@ json stage_seconds(const BroadPhaseStats& s) {
 }
 
 /// How the static triangle tests of every frame were decided, on the CPU
-/// back end's broad phase pairs: by the 2D exact-sign filter
-/// (triangles_separated_in_projection), or by triangles_intersect, and how
-/// often an orientation predicate of each needed its exact stage.
+/// back end's broad phase pairs and in its order (triangle_triangle_frame.hpp):
+/// by the 2D exact-sign filter or by the exact-sign test after it, and how
+/// often an orientation predicate of the per-triangle axes, of the filter or
+/// of the test needed its exact stage.
 json static_filter_counts(const BenchScene& bench) {
   auto phase = make_broad_phase(BroadPhaseMethod::kBoxGrid);
   phase->build(bench.scene, BroadPhaseSettings{});
   const auto& triangles = bench.scene.triangles();
   std::vector<TrianglePair> pairs;
-  std::size_t total = 0, decided = 0;
-  PredicateCounters filter, exact_test;
+  std::vector<TriangleAxes> axes;
+  StaticTestCounters counters;
   for (const std::vector<Vec3>& x : bench.frames) {
     phase->detect_static(x, pairs);
-    total += pairs.size();
-    for (const TrianglePair& p : pairs) {
-      const Triangle& ta = triangles[p.a];
-      const Triangle& tb = triangles[p.b];
-      const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
-      const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
-      if (triangles_separated_in_projection(a, ta.data(), b, tb.data(), &filter))
-        ++decided;
-      else
-        triangles_intersect(a, ta.data(), b, tb.data(), &exact_test);
-    }
+    compute_triangle_axes(triangles, x, axes, counters.axes);
+    for (const TrianglePair& p : pairs) frame_triangles_intersect(triangles, x, axes, p, true, counters);
   }
-  return {{"pairs", total},
-          {"decided_by_filter", decided},
-          {"filter_predicates", filter.calls},
-          {"filter_predicates_exact", filter.exact},
-          {"test_predicates", exact_test.calls},
-          {"test_predicates_exact", exact_test.exact}};
+  return {{"pairs", counters.pairs},
+          {"decided_by_filter", counters.decided_by_filter},
+          {"axes_predicates", counters.axes.calls},
+          {"axes_predicates_exact", counters.axes.exact},
+          {"filter_predicates", counters.filter.calls},
+          {"filter_predicates_exact", counters.filter.exact},
+          {"test_predicates", counters.test.calls},
+          {"test_predicates_exact", counters.test.exact}};
 }
 
 json narrow_counts(const NarrowPhaseStats& s) {
@@ -363,7 +358,10 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
   std::vector<std::vector<TrianglePair>> snag_pairs(bench.frames.size());
   std::vector<Event> events;
   PipelineStats stages;  // of the last pass
-  const std::function<double()> snag_pass = [&] {
+  // A pass: every frame, its wall and CPU seconds.
+  using PassSeconds = std::pair<double, double>;
+  const std::function<PassSeconds()> snag_pass = [&] {
+    const double cpu_start = process_cpu_seconds();
     const auto start = Clock::now();
     stages = PipelineStats{};
     for (std::size_t f = 0; f < bench.frames.size(); ++f) {
@@ -373,24 +371,40 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
       snag_pairs[f].clear();
       for (const Event& e : events) snag_pairs[f].push_back({std::min(e.a, e.b), std::max(e.a, e.b)});
     }
-    return seconds_since(start);
+    return PassSeconds{seconds_since(start), process_cpu_seconds() - cpu_start};
   };
-  const std::vector<double> snag_passes = timed_passes(settings, snag_pass);
-  const double snag_seconds = median(snag_passes);
 
   CgalSelfIntersectionRunner cgal(bench.scene);
   std::vector<CgalSelfIntersections> cgal_found(bench.frames.size());
-  const std::function<double()> cgal_pass = [&] {
-    double total = 0;
+  const std::function<PassSeconds()> cgal_pass = [&] {
+    PassSeconds total{0, 0};
     for (std::size_t f = 0; f < bench.frames.size(); ++f) {
-      double seconds = 0;
-      cgal_found[f] = cgal.run(bench.frames[f], seconds);
-      total += seconds;
+      double seconds = 0, cpu_seconds = 0;
+      cgal_found[f] = cgal.run(bench.frames[f], seconds, cpu_seconds);
+      total.first += seconds;
+      total.second += cpu_seconds;
     }
     return total;
   };
-  const std::vector<double> cgal_passes = timed_passes(settings, cgal_pass);
+  // The passes alternate (snag, CGAL, snag, ...), so that other work on the
+  // machine slows both alike.
+  std::vector<double> snag_passes, cgal_passes, snag_cpu, cgal_cpu;
+  const std::function<std::pair<PassSeconds, PassSeconds>()> both = [&] {
+    const PassSeconds snag_seconds = snag_pass();
+    return std::make_pair(snag_seconds, cgal_pass());
+  };
+  for (const auto& [snag_seconds, cgal_seconds] : timed_passes(settings, both)) {
+    snag_passes.push_back(snag_seconds.first);
+    snag_cpu.push_back(snag_seconds.second);
+    cgal_passes.push_back(cgal_seconds.first);
+    cgal_cpu.push_back(cgal_seconds.second);
+  }
+  const double snag_seconds = median(snag_passes);
   const double cgal_seconds = median(cgal_passes);
+  const double snag_cpu_seconds = median(snag_cpu);
+  const double cgal_cpu_seconds = median(cgal_cpu);
+  const double snag_fastest = *std::min_element(snag_passes.begin(), snag_passes.end());
+  const double cgal_fastest = *std::min_element(cgal_passes.begin(), cgal_passes.end());
 
   std::size_t snag_total = 0, cgal_total = 0, degenerate = 0, only_snag = 0, only_cgal = 0;
   json differences = json::array();
@@ -428,6 +442,12 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
           {"snag_seconds", snag_seconds},
           {"cgal_seconds", cgal_seconds},
           {"speedup", snag_seconds > 0 ? cgal_seconds / snag_seconds : 0.0},
+          {"snag_fastest_seconds", snag_fastest},
+          {"cgal_fastest_seconds", cgal_fastest},
+          {"speedup_fastest", snag_fastest > 0 ? cgal_fastest / snag_fastest : 0.0},
+          {"snag_cpu_seconds", snag_cpu_seconds},
+          {"cgal_cpu_seconds", cgal_cpu_seconds},
+          {"speedup_cpu", snag_cpu_seconds > 0 ? cgal_cpu_seconds / snag_cpu_seconds : 0.0},
           {"cgal_parallel", CgalSelfIntersectionRunner::parallel()},
           {"cgal_mesh_repaired", cgal.repaired()},
           {"snag_pairs", snag_total},

@@ -56,7 +56,8 @@ json with_rss(json value, const ChildResult& child) {
   return value;
 }
 
-json bench_scene(const BenchScene& bench, const MeasureSettings& settings, std::size_t brute_force_limit) {
+json bench_scene(const BenchScene& bench, const MeasureSettings& settings, std::size_t brute_force_limit,
+                 bool static_only) {
   std::fprintf(stderr, "%s: %zu triangles, %zu vertices, %zu frames\n", bench.name.c_str(),
                bench.scene.triangle_count(), bench.scene.vertex_count(), bench.frames.size());
   json out = {{"name", bench.name},
@@ -66,6 +67,14 @@ json bench_scene(const BenchScene& bench, const MeasureSettings& settings, std::
               {"frames", bench.frames.size()},
               {"steps", bench.steps()},
               {"broad_phase", json::array()}};
+  const auto measure_static = [&] {
+    std::fprintf(stderr, "  static detection against CGAL\n");
+    const ChildResult child =
+        measure_in_child(settings, [&] { return snag::bench::measure_static_vs_cgal(bench, settings); });
+    out["static_vs_cgal"] = with_rss(child.value, child);
+    return out;
+  };
+  if (static_only) return measure_static();
   std::vector<BroadPhaseMethod> methods = {BroadPhaseMethod::kVirtualSubdivisionGrid,
                                            BroadPhaseMethod::kLargestTriangleGrid, BroadPhaseMethod::kBoxGrid};
   if (bench.scene.triangle_count() < brute_force_limit) methods.push_back(BroadPhaseMethod::kBruteForce);
@@ -99,10 +108,7 @@ json bench_scene(const BenchScene& bench, const MeasureSettings& settings, std::
   child = measure_in_child(
       settings, [&] { return snag::bench::measure_ccd_accuracy(bench, settings, vss_ccd_candidates); });
   out["ccd_accuracy"] = child.value;
-  std::fprintf(stderr, "  static detection against CGAL\n");
-  child = measure_in_child(settings, [&] { return snag::bench::measure_static_vs_cgal(bench, settings); });
-  out["static_vs_cgal"] = with_rss(child.value, child);
-  return out;
+  return measure_static();
 }
 
 void print_tables(const json& report) {
@@ -111,6 +117,7 @@ void print_tables(const json& report) {
               "method", "n", "total_s", "bounds", "subdiv", "regist", "pairs", "feat", "cells", "regs", "tests", "dup%",
               "tri_pairs", "VF", "EE", "est_MB", "rss_MB");
   for (const json& scene : report["scenes"]) {
+    if (!scene.contains("vss_over_largest")) continue;  // --static-only
     for (const json& r : scene["broad_phase"]) {
       const json& s = r["seconds"];
       const json& c = r["counts"];
@@ -138,6 +145,7 @@ void print_tables(const json& report) {
               "filter_s", "certify_s", "narrow_x", "VF yes/no/unc", "EE yes/no/unc", "escal%", "certified",
               "cert_true");
   for (const json& scene : report["scenes"]) {
+    if (!scene.contains("narrow_phase")) continue;
     const json& n = scene["narrow_phase"];
     const json& a = n["certified"]["answers"];
     auto triple = [](const json& k) {
@@ -158,6 +166,7 @@ void print_tables(const json& report) {
   std::printf("%-10s %-4s %10s %8s %9s %6s %10s %6s %6s %9s %8s %8s %9s\n", "scene", "kind", "candidates", "sampled",
               "sample_no", "FN", "filter_yes", "FP", "toi_x", "uncertain", "unc->yes", "unc->no", "us/exact");
   for (const json& scene : report["scenes"]) {
+    if (!scene.contains("ccd_accuracy")) continue;
     for (const char* kind : {"vf", "ee"}) {
       const json& t = scene["ccd_accuracy"][kind];
       std::printf("%-10s %-4s %10zu %8zu %9zu %6zu %10zu %6zu %6zu %9zu %8zu %8zu %9.1f\n",
@@ -170,9 +179,11 @@ void print_tables(const json& report) {
     }
   }
 
-  std::printf("\nstatic detection: snag intersections() vs CGAL self_intersections (Parallel_if_available_tag, TBB)\n");
-  std::printf("%-10s %7s %9s %9s %8s %10s %10s %8s %s\n", "scene", "frames", "snag_s", "cgal_s", "speedup",
-              "snag_pairs", "cgal_pairs", "cgal_deg", "pair sets");
+  std::printf("\nstatic detection: snag intersections() vs CGAL self_intersections (Parallel_if_available_tag, TBB); "
+              "passes alternate; median wall s, fastest pass (min), median process CPU s\n");
+  std::printf("%-10s %7s %9s %9s %8s %9s %8s %9s %9s %8s %10s %10s %8s %s\n", "scene", "frames", "snag_s", "cgal_s",
+              "speedup", "snag_min", "min_x", "snag_cpu", "cgal_cpu", "cpu_x", "snag_pairs", "cgal_pairs", "cgal_deg",
+              "pair sets");
   for (const json& scene : report["scenes"]) {
     const json& s = scene["static_vs_cgal"];
     std::string verdict = "identical";
@@ -180,10 +191,13 @@ void print_tables(const json& report) {
       verdict = "DIFFER: " + std::to_string(s["only_snag"].get<std::size_t>()) + " only snag, " +
                 std::to_string(s["only_cgal"].get<std::size_t>()) + " only CGAL";
     if (s["cgal_mesh_repaired"].get<bool>()) verdict += " (CGAL mesh repaired: vertices split)";
-    std::printf("%-10s %7zu %9.4f %9.4f %8.2f %10zu %10zu %8zu %s\n", scene["name"].get<std::string>().c_str(),
-                s["frames"].get<std::size_t>(), s["snag_seconds"].get<double>(), s["cgal_seconds"].get<double>(),
-                s["speedup"].get<double>(), s["snag_pairs"].get<std::size_t>(), s["cgal_pairs"].get<std::size_t>(),
-                s["cgal_degenerate_faces"].get<std::size_t>(), verdict.c_str());
+    std::printf("%-10s %7zu %9.4f %9.4f %8.2f %9.4f %8.2f %9.4f %9.4f %8.2f %10zu %10zu %8zu %s\n",
+                scene["name"].get<std::string>().c_str(), s["frames"].get<std::size_t>(),
+                s["snag_seconds"].get<double>(), s["cgal_seconds"].get<double>(), s["speedup"].get<double>(),
+                s["snag_fastest_seconds"].get<double>(), s["speedup_fastest"].get<double>(),
+                s["snag_cpu_seconds"].get<double>(), s["cgal_cpu_seconds"].get<double>(),
+                s["speedup_cpu"].get<double>(), s["snag_pairs"].get<std::size_t>(),
+                s["cgal_pairs"].get<std::size_t>(), s["cgal_degenerate_faces"].get<std::size_t>(), verdict.c_str());
   }
 
   std::printf("\nsnag static detection by stage (last pass, all frames; filter: 2D exact-sign rejection before the test)\n");
@@ -217,7 +231,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> caches;
   std::size_t sample_steps = 0, brute_force_limit = 20000;
   std::string cache_frames = "0:";
-  bool no_cloth_ball = false, no_samples = false;
+  bool no_cloth_ball = false, no_samples = false, static_only = false;
   MeasureSettings settings;
   app.add_option("--data", data_dir, "shared data directory (meshes/cloth_ball92.ply, cloth_ball93.ply)");
   app.add_option("--samples", samples_dir, "the sample cache directory (cloth.pc2, cloth_rest.obj, body.pc2, body_rest.obj)");
@@ -229,6 +243,7 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
   app.add_flag("--no-cloth-ball", no_cloth_ball, "skip cloth_ball92 -> 93");
   app.add_flag("--no-samples", no_samples, "skip the sample cache");
+  app.add_flag("--static-only", static_only, "measure static detection against CGAL alone (no broad phase, CCD or accuracy tables)");
   app.add_option("--repeat", settings.repeat, "timed passes per measurement (median), after one warm-up")
       ->check(CLI::Range(1, 1000));
   app.add_option("--slow-pass-seconds", settings.slow_pass_seconds,
@@ -257,25 +272,25 @@ int main(int argc, char** argv) {
       const std::string meshes = data_dir + "/meshes/";
       const BenchScene scene =
           snag::bench::load_mesh_pair("cloth_ball", meshes + "cloth_ball92.ply", meshes + "cloth_ball93.ply");
-      report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
+      report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit, static_only));
     }
     if (!no_samples) {
       snag::io::FrameSelection frames;
       if (sample_steps > 0) frames.last = sample_steps;
       const BenchScene scene = snag::bench::load_sample("samples", samples_dir, frames);
-      report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
+      report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit, static_only));
     }
     for (const std::string& dir : caches) {
       std::string name = dir;
       while (name.size() > 1 && name.back() == '/') name.pop_back();
       name = name.substr(name.find_last_of('/') + 1);
       const BenchScene scene = snag::bench::load_sample(name, dir, snag::io::parse_frame_selection(cache_frames));
-      report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
+      report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit, static_only));
     }
     for (std::size_t i = 0; i < extra_scenes.size(); ++i) {
       const BenchScene scene = snag::bench::load_mesh_pair("scene" + std::to_string(i + 1), extra_scenes[i][0],
                                                            extra_scenes[i][1]);
-      report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit));
+      report["scenes"].push_back(bench_scene(scene, settings, brute_force_limit, static_only));
     }
     std::printf("snag-bench-pipeline: median of %d passes after one warm-up, threads %u (0 = all), λ %.2f, thickness %g\n",
                 settings.repeat, settings.threads, settings.lambda, settings.thickness);

@@ -41,13 +41,22 @@ void BoxGridBroadPhase::build(const Scene& scene, const BroadPhaseSettings& sett
   if (!(settings.thickness >= 0.0)) throw UsageError("broad phase: thickness must be >= 0");
   scene_ = &scene;
   settings_ = settings;
-  tbb::task_arena arena(arena_threads(settings.threads));
-  arena.execute([&] { reps_ = assign_representative_triangles(scene); });
+  arena_ = std::make_unique<tbb::task_arena>(arena_threads(settings.threads));
+  arena_->execute([&] { reps_ = assign_representative_triangles(scene); });
 }
 
 void BoxGridBroadPhase::choose_grid() {
   const std::vector<Dop18>& dops = *dops_;
   const std::size_t n = dops.size();
+  boxes_.resize(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t t = range.begin(); t != range.end(); ++t) {
+      for (int a = 0; a < 3; ++a) {
+        boxes_[t].lo[a] = float_at_most(dops[t].lo[a]);
+        boxes_[t].hi[a] = float_at_least(dops[t].hi[a]);
+      }
+    }
+  });
   double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, extent_sum = 0;
   for (const Dop18& d : dops) {
     double extent = 0;
@@ -111,8 +120,7 @@ void BoxGridBroadPhase::choose_grid() {
 }
 
 void BoxGridBroadPhase::register_boxes() {
-  const std::vector<Dop18>& dops = *dops_;
-  const std::size_t n = dops.size();
+  const std::size_t n = dops_->size();
   const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
   const std::size_t registrations = first_registration_[n];
   cell_first_.assign(cells + 1, 0);
@@ -143,16 +151,39 @@ void BoxGridBroadPhase::register_boxes() {
   next.assign(cell_first_.begin(), cell_first_.end() - 1);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     for (std::size_t t = range.begin(); t != range.end(); ++t) {
-      Member box;
-      for (int a = 0; a < 3; ++a) {
-        box.lo[a] = float_at_most(dops[t].lo[a]);
-        box.hi[a] = float_at_least(dops[t].hi[a]);
-      }
-      box.triangle = static_cast<Index>(t);
+      Member member;
+      member.box = boxes_[t];
+      member.triangle = static_cast<Index>(t);
       for_each_cell(t, [&](std::size_t c, std::uint32_t lowest_along) {
-        box.lowest_along = lowest_along;
-        members_[atomic_add(next[c])] = box;
+        member.lowest_along = lowest_along;
+        members_[atomic_add(next[c])] = member;
       });
+    }
+  });
+  // Each cell by triangle (cells hold a few dozen: insertion sort), which
+  // makes the order independent of the schedule and lets a triangle's query
+  // start at its own place; then each registration's place is noted.
+  place_in_cell_.resize(registrations);
+  const std::size_t dim_x = static_cast<std::size_t>(dims_[0]), dim_y = static_cast<std::size_t>(dims_[1]);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 4096), [&](const auto& range) {
+    for (std::size_t c = range.begin(); c != range.end(); ++c) {
+      Member* first = members_.data() + cell_first_[c];
+      Member* last = members_.data() + cell_first_[c + 1];
+      for (Member* m = first + 1; m < last; ++m) {
+        const Member moving = *m;
+        Member* hole = m;
+        for (; hole != first && (hole - 1)->triangle > moving.triangle; --hole) *hole = *(hole - 1);
+        *hole = moving;
+      }
+      const std::uint32_t x = static_cast<std::uint32_t>(c % dim_x);
+      const std::uint32_t y = static_cast<std::uint32_t>(c / dim_x % dim_y);
+      const std::uint32_t z = static_cast<std::uint32_t>(c / dim_x / dim_y);
+      for (Member* m = first; m < last; ++m) {
+        const Index t = m->triangle;
+        const std::uint64_t span_x = cell_hi_[0][t] - cell_lo_[0][t] + 1, span_y = cell_hi_[1][t] - cell_lo_[1][t] + 1;
+        const std::uint64_t rank = x - cell_lo_[0][t] + span_x * ((y - cell_lo_[1][t]) + span_y * (z - cell_lo_[2][t]));
+        place_in_cell_[first_registration_[t] + rank] = static_cast<std::uint32_t>(m - first);
+      }
     }
   });
   stats_.cells_used = used;
@@ -181,6 +212,8 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
   const std::uint64_t* cell_first = cell_first_.data();
   const std::uint32_t *cell_lo_x = cell_lo_[0].data(), *cell_lo_y = cell_lo_[1].data(), *cell_lo_z = cell_lo_[2].data();
   const std::uint32_t *cell_hi_x = cell_hi_[0].data(), *cell_hi_y = cell_hi_[1].data(), *cell_hi_z = cell_hi_[2].data();
+  const std::uint32_t* place_in_cell = place_in_cell_.data();
+  const std::uint64_t* first_registration = first_registration_.data();
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
     std::vector<TrianglePair>& out = block_pairs_[block];
     out.clear();
@@ -189,9 +222,11 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
     for (std::size_t ta = block * kBlock; ta < end; ++ta) {
       const Index a = static_cast<Index>(ta);
       const Dop18& da = dops[a];
-      const float lo_x = float_at_most(da.lo[0]), lo_y = float_at_most(da.lo[1]), lo_z = float_at_most(da.lo[2]);
-      const float hi_x = float_at_least(da.hi[0]), hi_y = float_at_least(da.hi[1]), hi_z = float_at_least(da.hi[2]);
+      const FloatBox box = boxes_[a];
+      const float lo_x = box.lo[0], lo_y = box.lo[1], lo_z = box.lo[2];
+      const float hi_x = box.hi[0], hi_y = box.hi[1], hi_z = box.hi[2];
       const std::uint32_t ax = cell_lo_x[a], ay = cell_lo_y[a], az = cell_lo_z[a];
+      const std::uint32_t* place = place_in_cell + first_registration[a];
       const std::size_t first_out = out.size();
       for (std::uint32_t z = az; z <= cell_hi_z[a]; ++z) {
         for (std::uint32_t y = ay; y <= cell_hi_y[a]; ++y) {
@@ -203,18 +238,19 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
             // must be b's lowest.
             const std::uint32_t need =
                 std::uint32_t(x != ax) | std::uint32_t(y != ay) << 1 | std::uint32_t(z != az) << 2;
-            const Member* k = members + cell_first[c];
+            // The cell is sorted by triangle: those after a's own place are b > a.
+            const Member* k = members + cell_first[c] + *place++ + 1;
             const Member* k_end = members + cell_first[c + 1];
-            while (k != k_end) {
+            while (k < k_end) {
               // Tests without branches (a branch would often mispredict),
               // the candidates compacted, then their DOPs tested.
               const Member* chunk_end = k + std::min<std::ptrdiff_t>(kChunk, k_end - k);
               Index candidates[kChunk];
               int count = 0;
               for (const Member* m = k; m != chunk_end; ++m) {
-                const bool skip = (m->triangle <= a) | ((m->lowest_along & need) != need) | (m->lo[0] > hi_x) |
-                                  (m->hi[0] < lo_x) | (m->lo[1] > hi_y) | (m->hi[1] < lo_y) | (m->lo[2] > hi_z) |
-                                  (m->hi[2] < lo_z);
+                const bool skip = ((m->lowest_along & need) != need) | (m->box.lo[0] > hi_x) |
+                                  (m->box.hi[0] < lo_x) | (m->box.lo[1] > hi_y) | (m->box.hi[1] < lo_y) |
+                                  (m->box.lo[2] > hi_z) | (m->box.hi[2] < lo_z);
                 candidates[count] = m->triangle;
                 count += !skip;
               }
@@ -251,7 +287,8 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
   stats_.seconds_pairs = seconds_since(t);
   stats_.memory_bytes = dops.size() * sizeof(Dop18) + cell_first_.capacity() * sizeof(std::uint64_t) +
                         n * (6 * sizeof(std::uint32_t) + sizeof(std::uint64_t)) +
-                        members_.capacity() * sizeof(Member) +
+                        members_.capacity() * sizeof(Member) + place_in_cell_.capacity() * sizeof(std::uint32_t) +
+                        boxes_.capacity() * sizeof(FloatBox) +
                         pairs.capacity() * sizeof(TrianglePair);
 }
 
@@ -259,8 +296,7 @@ void BoxGridBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vec
                                    std::vector<VertexFaceCandidate>& vf, std::vector<EdgeEdgeCandidate>& ee) {
   check_positions(scene_, x_t0, "x_t0");
   check_positions(scene_, x_t1, "x_t1");
-  tbb::task_arena arena(arena_threads(settings_.threads));
-  arena.execute([&] {
+  arena_->execute([&] {
     stats_ = BroadPhaseStats{};
     const auto start = Clock::now();
     bounds_ = compute_primitive_bounds(*scene_, x_t0, x_t1, settings_.thickness);
@@ -275,8 +311,7 @@ void BoxGridBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vec
 
 void BoxGridBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) {
   check_positions(scene_, x, "x");
-  tbb::task_arena arena(arena_threads(settings_.threads));
-  arena.execute([&] {
+  arena_->execute([&] {
     stats_ = BroadPhaseStats{};
     const auto start = Clock::now();
     const auto& triangles = scene_->triangles();

@@ -2,15 +2,17 @@
 // triangle by triangle, with no subdivision and no global sort.
 //
 //   1. 18-DOPs of the triangles (static, or swept over the step), whose axis
-//      slabs are the boxes;
+//      slabs are the boxes, rounded outwards to floats once per triangle;
 //   2. a uniform grid over the boxes; each triangle is registered in every
-//      cell its box overlaps (a parallel counting sort by cell), with its box
-//      rounded outwards to floats and three bits saying whether the cell is
-//      the box's lowest along each axis, so that a cell's scan streams 32
-//      bytes per triangle and needs nothing else;
+//      cell its box overlaps (a parallel counting sort by cell, then each
+//      cell sorted by triangle), with its float box and three bits saying
+//      whether the cell is the box's lowest along each axis, so that a cell's
+//      scan streams 32 bytes per triangle and needs nothing else; each
+//      registration's place in its cell is kept;
 //   3. for each triangle a, in parallel over fixed blocks of triangles, the
-//      cells of its box are scanned, without branches, for triangles b > a
-//      whose boxes overlap a's, keeping the pair only in the cell that holds
+//      cells of its box are scanned from a's own place on (so only triangles
+//      b > a are read, half of a cell on average), without branches, for
+//      boxes that overlap a's, keeping the pair only in the cell that holds
 //      the low corner of the two boxes' intersection (so it is found once,
 //      without a sort and unique); then the 18-DOPs of those are tested;
 //   4. a's partners are sorted (a handful) and the blocks concatenated in
@@ -33,7 +35,10 @@
 // low-corner rule for reporting a pair once); Klosowski et al. 1998 (k-DOPs).
 #pragma once
 
+#include <tbb/task_arena.h>
+
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "libcd/bounding_volume/primitive_bounds.hpp"
@@ -55,7 +60,8 @@ class BoxGridBroadPhase : public BroadPhase {
   void triangle_pairs(std::vector<TrianglePair>& pairs);
   /// Chooses the cell size and dimensions for the boxes of dops_.
   void choose_grid();
-  /// Registers every triangle in the cells of its box (counting sort).
+  /// Registers every triangle in the cells of its box (counting sort), sorts
+  /// each cell by triangle and notes each registration's place in its cell.
   void register_boxes();
 
   const Scene* scene_ = nullptr;
@@ -66,6 +72,7 @@ class BoxGridBroadPhase : public BroadPhase {
   std::vector<Dop18> static_dops_;
   std::vector<TrianglePair> pairs_;  ///< CCD: the triangle pairs before the feature stage
   const std::vector<Dop18>* dops_ = nullptr;  ///< the triangle DOPs of this detection
+  std::unique_ptr<tbb::task_arena> arena_;    ///< settings.threads workers, made once in build()
 
   // The grid, kept between detections so that its arrays are reused.
   double origin_[3] = {0, 0, 0};
@@ -75,15 +82,23 @@ class BoxGridBroadPhase : public BroadPhase {
   std::vector<std::uint64_t> next_in_cell_;  ///< #cells, the counting sort's cursors
   std::vector<std::uint32_t> cell_lo_[3], cell_hi_[3];  ///< #F cell range of each box, per axis
   std::vector<std::uint64_t> first_registration_;       ///< #F + 1, prefix sum of range volumes
-  /// A registration: the triangle and its box rounded outwards to floats
-  /// (half the bytes to stream; the exact DOP test follows).
-  struct Member {
+  /// A triangle's box rounded outwards to floats (half the bytes to stream;
+  /// the exact DOP test follows).
+  struct FloatBox {
     float lo[3], hi[3];
+  };
+  std::vector<FloatBox> boxes_;  ///< #F
+  /// A registration: the triangle and its float box.
+  struct Member {
+    FloatBox box;
     Index triangle;
     /// Bit k: this cell is the lowest of the triangle's cells along axis k.
     std::uint32_t lowest_along;
   };
-  std::vector<Member> members_;  ///< registrations in cell order
+  std::vector<Member> members_;  ///< registrations in cell order, each cell by triangle
+  /// Per registration in triangle order (first_registration_[t] + the
+  /// cell's rank in t's box, x fastest): its place within its cell.
+  std::vector<std::uint32_t> place_in_cell_;
   // Output blocks, one per fixed range of triangles.
   std::vector<std::vector<TrianglePair>> block_pairs_;
   std::vector<std::size_t> block_tests_, block_culled_;

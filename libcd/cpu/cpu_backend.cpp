@@ -2,7 +2,8 @@
 // then the conservative floating-point CCD filter and the exact-sign static
 // test on all cores, then exact certification of the answers the filter left
 // uncertain.
-#include <tbb/enumerable_thread_specific.h>
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -12,7 +13,7 @@
 
 #include "libcd/core/error.hpp"
 #include "libcd/cpu/cpu_backend.hpp"
-#include "libcd/narrow_phase/triangle_triangle.hpp"
+#include "libcd/narrow_phase/triangle_triangle_frame.hpp"
 #include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/event_builder.hpp"
 
@@ -70,35 +71,31 @@ class CpuBackend final : public Backend {
       stats_.static_broad = static_broad_->stats();
       const auto start = std::chrono::steady_clock::now();
       const auto& triangles = scene_->triangles();
-      std::vector<unsigned char> hit(pairs_.size(), 0);
-      tbb::enumerable_thread_specific<PredicateCounters> counters;
+      PredicateCounters axes_counters;
+      compute_triangle_axes(triangles, x, axes_, axes_counters);
+      hit_.assign(pairs_.size(), 0);
+      tbb::combinable<StaticTestCounters> counters;
       const bool filter = options_.projection_filter;
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 256), [&](const auto& range) {
-        PredicateCounters& local = counters.local();
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          const Triangle& ta = triangles[pairs_[i].a];
-          const Triangle& tb = triangles[pairs_[i].b];
-          const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
-          const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
-          // Neighbours on a smooth surface are nearly coplanar: their 3D
-          // plane-side signs need the exact stage, their 2D signs do not.
-          hit[i] = !(filter && triangles_separated_in_projection(a, ta.data(), b, tb.data(), &local)) &&
-                   triangles_intersect(a, ta.data(), b, tb.data(), &local);
-        }
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 1024), [&](const auto& range) {
+        StaticTestCounters& local = counters.local();
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+          hit_[i] = frame_triangles_intersect(triangles, x, axes_, pairs_[i], filter, local);
       });
-      for (const PredicateCounters& local : counters) {
-        stats_.narrow.predicate_calls += local.calls;
-        stats_.narrow.predicate_exact += local.exact;
-      }
+      stats_.narrow.predicate_calls += axes_counters.calls;
+      stats_.narrow.predicate_exact += axes_counters.exact;
+      counters.combine_each([&](const StaticTestCounters& local) {
+        stats_.narrow.predicate_calls += local.filter.calls + local.test.calls;
+        stats_.narrow.predicate_exact += local.filter.exact + local.test.exact;
+      });
       stats_.narrow.triangle_tests = pairs_.size();
-      std::vector<TrianglePair> intersecting;
+      intersecting_.clear();
       for (std::size_t i = 0; i < pairs_.size(); ++i) {
-        if (hit[i]) intersecting.push_back(pairs_[i]);
+        if (hit_[i]) intersecting_.push_back(pairs_[i]);
       }
       const auto events_start = std::chrono::steady_clock::now();
-      append_intersection_events(*scene_, x, intersecting, events);
+      append_intersection_events(*scene_, x, intersecting_, events);
       stats_.narrow.seconds_static_events = seconds_since(events_start);
-      stats_.narrow.triangles_intersecting += intersecting.size();
+      stats_.narrow.triangles_intersecting += intersecting_.size();
       stats_.narrow.seconds_static = seconds_since(start);
     });
   }
@@ -138,7 +135,10 @@ class CpuBackend final : public Backend {
   std::unique_ptr<tbb::task_arena> arena_;
   std::vector<VertexFaceCandidate> vf_;
   std::vector<EdgeEdgeCandidate> ee_;
-  std::vector<TrianglePair> pairs_;
+  // Static detection's arrays, reused from frame to frame.
+  std::vector<TrianglePair> pairs_, intersecting_;
+  std::vector<TriangleAxes> axes_;
+  std::vector<unsigned char> hit_;
   PipelineStats stats_;
 };
 

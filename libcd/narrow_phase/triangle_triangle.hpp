@@ -257,30 +257,23 @@ SNAG_HD_INLINE bool separated_at_shared_vertex(Vec3 v, Vec3 a1, Vec3 a2, Vec3 b1
 
 }  // namespace triangle_detail
 
-/// An exact-sign filter in front of triangles_intersect: true only when
-/// triangles_intersect(a, a_ids, b, b_ids) is false, shown by 2D orientation
-/// signs in the projection along a's dominant normal axis (well conditioned
-/// for neighbouring triangles of a smooth surface, where the 3D plane-side
-/// tests are nearly zero and need the exact stage):
-///   - nothing shared: the projected triangles are separated by an edge line;
-///   - one shared vertex: a line through it splits the two triangles
-///     (separated_at_shared_vertex), or else each far edge is separated from
-///     the other triangle;
-///   - a shared edge: the opposite vertices are not strictly on one side of
-///     the edge's line, with a's opposite vertex off it (a non-degenerate in
-///     the projection). Coplanar, the sides agree in every projection that
-///     keeps a non-degenerate; not coplanar, the pair does not intersect.
-/// False means "not shown", not "intersecting". Same arguments as
-/// triangles_intersect. Does not throw.
-SNAG_HD_INLINE bool triangles_separated_in_projection(const Vec3 a[3], const std::uint32_t a_ids[3], const Vec3 b[3],
-                                                      const std::uint32_t b_ids[3],
-                                                      PredicateCounters* counters = nullptr) {
+/// The coordinate axis along which triangle t's floating-point normal is
+/// largest: dropping it gives the best conditioned projection.
+SNAG_HD_INLINE int dominant_normal_axis(const Vec3 t[3]) {
+  const Vec3 n = cross(t[1] - t[0], t[2] - t[0]);
+  const double nx = fabs(n.x), ny = fabs(n.y), nz = fabs(n.z);
+  return (nx >= ny && nx >= nz) ? 0 : (ny >= nz ? 1 : 2);
+}
+
+/// triangles_separated_in_projection in the projection dropping `axis`
+/// (any axis is sound; dominant_normal_axis(a) decides the most), for callers
+/// that compute each triangle's axis once instead of once per pair.
+SNAG_HD_INLINE bool triangles_separated_in_projection_along(int axis, const Vec3 a[3], const std::uint32_t a_ids[3],
+                                                            const Vec3 b[3], const std::uint32_t b_ids[3],
+                                                            PredicateCounters* counters = nullptr) {
   using namespace triangle_detail;
   const SharedIds shared = shared_ids(a_ids, b_ids);
   const int shared_count = shared.count, a_shared = shared.a_last, b_shared = shared.b_last;
-  const Vec3 n = cross(a[1] - a[0], a[2] - a[0]);
-  const double nx = fabs(n.x), ny = fabs(n.y), nz = fabs(n.z);
-  const int axis = (nx >= ny && nx >= nz) ? 0 : (ny >= nz ? 1 : 2);
   if (shared_count == 0) return separated_in_projection(a, 3, b, 3, axis, counters);
   if (shared_count == 1) {
     const Vec3 a_from_shared[3] = {a[a_shared], a[(a_shared + 1) % 3], a[(a_shared + 2) % 3]};
@@ -302,30 +295,44 @@ SNAG_HD_INLINE bool triangles_separated_in_projection(const Vec3 a[3], const std
   return false;  // a duplicated face (or ids repeated within a triangle)
 }
 
+/// An exact-sign filter in front of triangles_intersect: true only when
+/// triangles_intersect(a, a_ids, b, b_ids) is false, shown by 2D orientation
+/// signs in the projection along a's dominant normal axis (well conditioned
+/// for neighbouring triangles of a smooth surface, where the 3D plane-side
+/// tests are nearly zero and need the exact stage):
+///   - nothing shared: the projected triangles are separated by an edge line;
+///   - one shared vertex: a line through it splits the two triangles
+///     (separated_at_shared_vertex), or else each far edge is separated from
+///     the other triangle;
+///   - a shared edge: the opposite vertices are not strictly on one side of
+///     the edge's line, with a's opposite vertex off it (a non-degenerate in
+///     the projection). Coplanar, the sides agree in every projection that
+///     keeps a non-degenerate; not coplanar, the pair does not intersect.
+/// False means "not shown", not "intersecting". Same arguments as
+/// triangles_intersect. Does not throw.
+SNAG_HD_INLINE bool triangles_separated_in_projection(const Vec3 a[3], const std::uint32_t a_ids[3], const Vec3 b[3],
+                                                      const std::uint32_t b_ids[3],
+                                                      PredicateCounters* counters = nullptr) {
+  return triangles_separated_in_projection_along(dominant_normal_axis(a), a, a_ids, b, b_ids, counters);
+}
+
 /// True when the vertices p0, p1, p2 are collinear (exactly), including
 /// repeated positions. Such a triangle has no plane and is reported apart.
 SNAG_HD_INLINE bool is_degenerate_triangle(Vec3 p0, Vec3 p1, Vec3 p2, PredicateCounters* counters = nullptr) {
   return triangle_detail::projection_axis(p0, p1, p2, counters) < 0;
 }
 
-/// Whether two triangles of one frame intersect, with the shared-feature and
-/// degenerate-triangle rules in this file's header (CGAL's self_intersections
-/// rules).
-///   a, b: [in] the 3 vertex positions of each triangle (any units)
-///   a_ids, b_ids: [in] the 3 vertex ids of each triangle, in the same order;
-///     ids decide which features are shared (equal positions under different
-///     ids are not a shared feature)
-///   counters: [in,out] optional predicate counters (null to skip)
-///   adjacency: [out] optional, how the two triangles are related
-/// Positions must satisfy is_in_exact_range. Does not throw.
-SNAG_HD_INLINE bool triangles_intersect(const Vec3 a[3], const std::uint32_t a_ids[3], const Vec3 b[3],
-                                        const std::uint32_t b_ids[3], PredicateCounters* counters = nullptr,
-                                        TriangleAdjacency* adjacency = nullptr) {
+/// triangles_intersect with each triangle's projection axis given:
+/// a_axis = triangle_detail::projection_axis(a[0], a[1], a[2], ...), b_axis
+/// likewise (-1: degenerate), for callers that compute them once per
+/// triangle instead of once per pair. Same result and adjacency.
+SNAG_HD_INLINE bool triangles_intersect_with_axes(const Vec3 a[3], const std::uint32_t a_ids[3], int a_axis,
+                                                  const Vec3 b[3], const std::uint32_t b_ids[3], int b_axis,
+                                                  PredicateCounters* counters = nullptr,
+                                                  TriangleAdjacency* adjacency = nullptr) {
   using namespace triangle_detail;
   TriangleAdjacency relation = TriangleAdjacency::none;
   bool result = false;
-  const int a_axis = projection_axis(a[0], a[1], a[2], counters);
-  const int b_axis = a_axis < 0 ? -1 : projection_axis(b[0], b[1], b[2], counters);
   if (a_axis < 0 || b_axis < 0) {
     relation = TriangleAdjacency::degenerate;
   } else {
@@ -363,6 +370,24 @@ SNAG_HD_INLINE bool triangles_intersect(const Vec3 a[3], const std::uint32_t a_i
   }
   if (adjacency) *adjacency = relation;
   return result;
+}
+
+/// Whether two triangles of one frame intersect, with the shared-feature and
+/// degenerate-triangle rules in this file's header (CGAL's self_intersections
+/// rules).
+///   a, b: [in] the 3 vertex positions of each triangle (any units)
+///   a_ids, b_ids: [in] the 3 vertex ids of each triangle, in the same order;
+///     ids decide which features are shared (equal positions under different
+///     ids are not a shared feature)
+///   counters: [in,out] optional predicate counters (null to skip)
+///   adjacency: [out] optional, how the two triangles are related
+/// Positions must satisfy is_in_exact_range. Does not throw.
+SNAG_HD_INLINE bool triangles_intersect(const Vec3 a[3], const std::uint32_t a_ids[3], const Vec3 b[3],
+                                        const std::uint32_t b_ids[3], PredicateCounters* counters = nullptr,
+                                        TriangleAdjacency* adjacency = nullptr) {
+  const int a_axis = triangle_detail::projection_axis(a[0], a[1], a[2], counters);
+  const int b_axis = a_axis < 0 ? -1 : triangle_detail::projection_axis(b[0], b[1], b[2], counters);
+  return triangles_intersect_with_axes(a, a_ids, a_axis, b, b_ids, b_axis, counters, adjacency);
 }
 
 }  // namespace snag

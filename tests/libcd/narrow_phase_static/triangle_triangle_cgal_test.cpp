@@ -4,7 +4,9 @@
 //     the EPICK kernel (our side enumerates candidates with an AABB sweep);
 //   - on random triangle soups over tiny integer grids (many coplanar,
 //     touching and shared-vertex cases), against CGAL's own per-pair rules
-//     (do_faces_intersect in self_intersections.h) evaluated with EPICK.
+//     (do_faces_intersect in self_intersections.h) evaluated with EPICK, and
+//     the CPU back end's per-frame form (frame_triangles_intersect, with and
+//     without its filter) against triangles_intersect there.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -23,6 +25,7 @@
 #include <vector>
 
 #include "libcd/narrow_phase/triangle_triangle.hpp"
+#include "libcd/narrow_phase/triangle_triangle_frame.hpp"
 
 namespace snag {
 namespace {
@@ -241,6 +244,7 @@ TEST(TrianglesIntersectVsCgal, MatchesCgalRulesOnRandomSoupsWithSharedAndCoincid
   std::mt19937_64 rng(11);
   std::size_t intersecting = 0, tested = 0, filtered = 0;
   PredicateCounters counters;
+  StaticTestCounters frame_counters;
   for (int trial = 0; trial < 6; ++trial) {
     // 40 grid points (0..2 per axis, some scaled by 2^-30 or nudged by an
     // ulp), then 12 extra ids at the positions of earlier ones.
@@ -261,6 +265,10 @@ TEST(TrianglesIntersectVsCgal, MatchesCgalRulesOnRandomSoupsWithSharedAndCoincid
       if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
       triangles.push_back(t);
     }
+    // The CPU back end's per-frame form (triangle_triangle_frame.hpp) must
+    // give the same answer for every pair, with and without its filter.
+    std::vector<TriangleAxes> axes;
+    compute_triangle_axes(triangles, positions, axes, frame_counters.axes);
     for (std::size_t i = 0; i < triangles.size(); ++i)
       for (std::size_t j = i + 1; j < triangles.size(); ++j) {
         const auto &ta = triangles[i], &tb = triangles[j];
@@ -269,6 +277,11 @@ TEST(TrianglesIntersectVsCgal, MatchesCgalRulesOnRandomSoupsWithSharedAndCoincid
         TriangleAdjacency adjacency;
         for (const Vec3& p : a) ASSERT_TRUE(is_in_exact_range(p));
         const bool ours = triangles_intersect(a, ta.data(), b, tb.data(), &counters, &adjacency);
+        const TrianglePair pair{Index(i), Index(j)};
+        ASSERT_EQ(frame_triangles_intersect(triangles, positions, axes, pair, true, frame_counters), ours)
+            << "trial " << trial << " faces " << i << ", " << j;
+        ASSERT_EQ(frame_triangles_intersect(triangles, positions, axes, pair, false, frame_counters), ours)
+            << "trial " << trial << " faces " << i << ", " << j;
         const bool a_degenerate = CGAL::collinear(Point(a[0].x, a[0].y, a[0].z), Point(a[1].x, a[1].y, a[1].z),
                                                   Point(a[2].x, a[2].y, a[2].z));
         const bool b_degenerate = CGAL::collinear(Point(b[0].x, b[0].y, b[0].z), Point(b[1].x, b[1].y, b[1].z),
@@ -298,6 +311,7 @@ TEST(TrianglesIntersectVsCgal, MatchesCgalRulesOnRandomSoupsWithSharedAndCoincid
   std::cout << "[random soups] pairs " << tested << ", intersecting " << intersecting << ", rejected by the 2D filter "
             << filtered << ", predicates " << counters.calls << " (exact stage " << counters.exact << ")\n";
   EXPECT_GT(filtered, tested / 10);
+  EXPECT_GT(frame_counters.decided_by_filter, tested / 10);
   EXPECT_GT(intersecting, tested / 10);
   EXPECT_LT(intersecting, tested);
 }

@@ -1,0 +1,66 @@
+// The static triangle test over the pairs of one frame, on the CPU. What a
+// pair test needs of each single triangle, its exact projection axis (or
+// degeneracy) and its dominant normal axis, is computed once per triangle and
+// frame instead of once per pair (most triangles sit in about a dozen pairs);
+// each pair then runs the 2D exact-sign filter
+// (triangles_separated_in_projection_along) and, when that shows nothing,
+// the exact-sign test (triangles_intersect_with_axes). The answers are those
+// of triangles_intersect.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "libcd/broad_phase/candidates.hpp"
+#include "libcd/geometry/predicates.hpp"
+#include "libcd/geometry/vec3.hpp"
+#include "libcd/narrow_phase/triangle_triangle.hpp"
+#include "libcd/scene/mesh.hpp"
+
+namespace snag {
+
+/// A triangle's axes in one frame.
+struct TriangleAxes {
+  std::int8_t projection = -1;  ///< triangle_detail::projection_axis: -1 when degenerate
+  std::int8_t dominant = 0;     ///< dominant_normal_axis: the 2D filter's projection
+};
+
+/// Counts of one frame's pair tests (add them up per thread).
+struct StaticTestCounters {
+  std::uint64_t pairs = 0;             ///< pairs tested
+  std::uint64_t decided_by_filter = 0; ///< of those, shown apart by the 2D filter
+  PredicateCounters axes;              ///< predicates of the per-triangle axes
+  PredicateCounters filter;            ///< predicates of the 2D filter
+  PredicateCounters test;              ///< predicates of the exact-sign test after it
+};
+
+/// The axes of every triangle at positions x (#V), on the calling arena's
+/// threads. `axes` is resized to #F; the predicates are counted into `counters`.
+void compute_triangle_axes(const std::vector<Triangle>& triangles, const std::vector<Vec3>& x,
+                           std::vector<TriangleAxes>& axes, PredicateCounters& counters);
+
+/// Whether the triangles of `pair` intersect at positions x (triangles_intersect's
+/// answer), given their axes (compute_triangle_axes); the 2D filter runs
+/// first when `filter` is set. Counts into `counters`. Does not throw.
+inline bool frame_triangles_intersect(const std::vector<Triangle>& triangles, const std::vector<Vec3>& x,
+                                      const std::vector<TriangleAxes>& axes, TrianglePair pair, bool filter,
+                                      StaticTestCounters& counters) {
+  const TriangleAxes a_axes = axes[pair.a], b_axes = axes[pair.b];
+  ++counters.pairs;
+  // A degenerate triangle is not tested (reported apart, as CGAL does).
+  if (a_axes.projection < 0 || b_axes.projection < 0) return false;
+  const Triangle& ta = triangles[pair.a];
+  const Triangle& tb = triangles[pair.b];
+  const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
+  const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
+  // Neighbours on a smooth surface are nearly coplanar: their 3D plane-side
+  // signs are small, their 2D signs in the dominant projection are not.
+  if (filter && triangles_separated_in_projection_along(a_axes.dominant, a, ta.data(), b, tb.data(), &counters.filter)) {
+    ++counters.decided_by_filter;
+    return false;
+  }
+  return triangles_intersect_with_axes(a, ta.data(), a_axes.projection, b, tb.data(), b_axes.projection,
+                                       &counters.test);
+}
+
+}  // namespace snag
