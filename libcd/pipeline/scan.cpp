@@ -5,6 +5,7 @@
 #include <future>
 
 #include "libcd/pipeline/event_builder.hpp"
+#include "libcd/pipeline/sink_thread.hpp"
 
 namespace snag {
 
@@ -77,37 +78,64 @@ void PipelineStats::add(const PipelineStats& other) {
   add_narrow(narrow, other.narrow);
 }
 
+namespace {
+
+// Frames that may wait for the sink or be in it while the scan goes on: two,
+// so that one slow frame (the first, which lists the most events) is taken
+// up by the next ones instead of stopping the scan.
+constexpr std::size_t kFramesInSink = 2;
+// Frame buffers: the frames in the sink (and the step's next frame of the
+// last of them), the two the back end works on, and the one being read.
+constexpr std::size_t kFrameBuffers = kFramesInSink + 3;
+// Event lists: one per frame in the sink, and the one being filled.
+constexpr std::size_t kEventBuffers = kFramesInSink + 1;
+
+// Sets each event's frame, counts the collisions' types (the first
+// `collisions` events), and puts the list in event_order if it is not: each
+// back end returns its list in order and collisions come before
+// intersections, so one pass over the events checks the order and no sort
+// is needed.
+void finish_events(std::vector<Event>& events, std::size_t collisions, FrameSummary& summary) {
+  bool ordered = true;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    Event& event = events[i];
+    event.frame = summary.frame;
+    if (i < collisions) {
+      summary.vertex_face += event.type == ContactType::kVertexFace;
+      summary.edge_edge += event.type == ContactType::kEdgeEdge;
+      summary.uncertain += event.certainty == Certainty::kUncertain;
+    }
+    if (ordered && i > 0 && event_order(event, events[i - 1])) ordered = false;
+  }
+  if (!ordered) sort_events_from(events, 0);
+}
+
+}  // namespace
+
 ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSettings& settings, ScanSink& sink,
                       const ProgressCallback& progress) {
   const auto start = Clock::now();
   ScanTotals totals;
   const std::size_t frame_count = source.frame_count();
   const bool detect = settings.collisions || settings.intersections;
-  // Frame i lives in frames[i % 4]. While the back end works on frames
-  // f + 1 and f + 2, frame f + 3 is read into a third buffer and the sink
-  // still reads frames f and f + 1 (the fourth).
-  std::vector<Vec3> frames[4];
-  // A frame's events, filled by the back end and then handed to the sink;
-  // the sink of frame f runs on its own thread while frame f + 1 is scanned.
-  std::vector<Event> events[2];
+  // Frame i lives in frames[i % kFrameBuffers] and its events in
+  // events[i % kEventBuffers], filled by the back end and then handed to
+  // the sink's thread.
+  std::vector<Vec3> frames[kFrameBuffers];
+  std::vector<Event> events[kEventBuffers];
   std::future<double> reading;  // after the buffers: joined before they go
-  std::future<double> sinking;
   auto read_ahead = [&](std::size_t i) {
     reading = std::async(std::launch::async, [&source, &frames, i] {
       const auto read_start = Clock::now();
-      source.read_frame(i, frames[i % 4]);
+      source.read_frame(i, frames[i % kFrameBuffers]);
       return seconds_since(read_start);
     });
   };
-  auto wait_for_sink = [&] {
-    if (!sinking.valid()) return;
-    const auto wait_start = Clock::now();
-    totals.sink_seconds += sinking.get();  // rethrows what the sink threw
-    totals.sink_wait_seconds += seconds_since(wait_start);
-  };
   std::vector<Event> static_events;  // a frame's intersections, before they join its list
-  ScannedFrame pending;
   try {
+    // After the buffers: on the way out it waits for the frame in the sink
+    // and drops the others, so that nothing uses the buffers when they go.
+    SinkThread sinking(sink, kFramesInSink);
     if (frame_count > 0) {
       const auto read_start = Clock::now();
       source.read_frame(0, frames[0]);
@@ -115,8 +143,8 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       if (frame_count > 1 && detect) read_ahead(1);
     }
     for (std::size_t f = 0; f < frame_count; ++f) {
-      const std::vector<Vec3>& current = frames[f % 4];
-      const std::vector<Vec3>& next = frames[(f + 1) % 4];
+      const std::vector<Vec3>& current = frames[f % kFrameBuffers];
+      const std::vector<Vec3>& next = frames[(f + 1) % kFrameBuffers];
       const bool has_next = f + 1 < frame_count && detect;
       if (has_next) {
         totals.read_seconds += reading.get();
@@ -128,10 +156,8 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       done.time = source.frame_time(f);
       done.summary.frame = source.frame_index(f);
       // Collisions go straight into the frame's list and the intersections
-      // (found first) after them: event_order puts collisions first and each
-      // back end returns its list in event_order, so the frame's list is in
-      // order without a sort (sort_events_from checks that in one pass).
-      std::vector<Event>& frame_events = events[f % 2];
+      // (found first) after them.
+      std::vector<Event>& frame_events = events[f % kEventBuffers];
       frame_events.clear();
       static_events.clear();
       if (settings.intersections) {
@@ -142,34 +168,22 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       if (settings.collisions && has_next) {
         backend.collisions(current, next, frame_events);
         totals.stats.add(backend.stats());
-        for (const Event& event : frame_events) {
-          done.summary.vertex_face += event.type == ContactType::kVertexFace;
-          done.summary.edge_edge += event.type == ContactType::kEdgeEdge;
-          done.summary.uncertain += event.certainty == Certainty::kUncertain;
-        }
         done.summary.collisions = frame_events.size();
       }
       frame_events.insert(frame_events.end(), static_events.begin(), static_events.end());
-      for (Event& event : frame_events) event.frame = done.summary.frame;
-      sort_events_from(frame_events, 0);
+      finish_events(frame_events, done.summary.collisions, done.summary);
       done.events = &frame_events;
       done.x = &current;
       done.x_next = has_next ? &next : nullptr;
-      wait_for_sink();  // frame f - 1's: one frame in the sink at a time, in order
-      pending = done;
-      sinking = std::async(std::launch::async, [&sink, &pending] {
-        const auto sink_start = Clock::now();
-        sink.frame(pending);
-        return seconds_since(sink_start);
-      });
+      sinking.hand(done);  // waits while kFramesInSink frames are queued or in the sink
       ++totals.frames;
       if (progress) progress(f + 1, frame_count);
     }
-    wait_for_sink();
+    sinking.drain();
+    totals.sink_seconds = sinking.sink_seconds();
+    totals.sink_wait_seconds = sinking.wait_seconds();
   } catch (...) {
-    // Nothing may still use the buffers when they go.
-    if (sinking.valid()) sinking.wait();
-    if (reading.valid()) reading.wait();
+    if (reading.valid()) reading.wait();  // the sink's thread has ended by now
     throw;
   }
   totals.total_seconds = seconds_since(start);

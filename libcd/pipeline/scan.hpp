@@ -2,8 +2,10 @@
 // frame's events to a sink. Frame f's intersections and the collisions of the
 // step f -> f + 1 are found while frames f and f + 1 are held; frame f + 2 is
 // read meanwhile on another thread, frame f + 1 is handed to the back end's
-// prepare() before the work on frame f starts, and the sink takes frame f - 1
-// on a third thread, so reading, uploading and reporting overlap detection.
+// prepare() before the work on frame f starts, and the sink takes the frames
+// before it on a thread of its own (one for the whole scan, fed through a
+// bounded queue of two frames), so reading, uploading and reporting overlap
+// detection while the scan holds at most five frames and three event lists.
 #pragma once
 
 #include <cstddef>
@@ -44,8 +46,8 @@ struct ScannedFrame {
 };
 
 /// Receives each frame as soon as it is done, in frame order, one call at a
-/// time, on a thread of its own: the sink of frame f runs while frame f + 1
-/// is scanned. The frame's buffers stay valid until the call returns.
+/// time, on a thread of its own: the sink of frame f runs while frames f + 1
+/// and f + 2 are scanned. The frame's buffers stay valid until the call returns.
 /// Nothing is kept between calls: what the sink keeps is what the scan holds.
 class ScanSink {
  public:

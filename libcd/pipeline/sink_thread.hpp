@@ -1,0 +1,60 @@
+// One thread for the scan's sink, for the whole scan: frames are handed to it
+// through a bounded queue and it calls ScanSink::frame on them in order, so
+// that the report of frame f is written while the scan goes on with the next
+// ones and no thread is started per frame.
+#pragma once
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "libcd/pipeline/scan.hpp"
+
+namespace snag {
+
+class SinkThread {
+ public:
+  /// Starts the thread. `capacity` (at least 1): how many frames may wait or
+  /// be in the sink at once; the scan's buffers must outlive them.
+  SinkThread(ScanSink& sink, std::size_t capacity);
+  /// Drops the frames not yet started, waits for the one in the sink and
+  /// ends the thread (so that nothing uses the scan's buffers after it).
+  ~SinkThread();
+  SinkThread(const SinkThread&) = delete;
+  SinkThread& operator=(const SinkThread&) = delete;
+
+  /// Queues `frame`, first waiting while the queue is full. Rethrows what the
+  /// sink threw on an earlier frame (after which it takes no more frames).
+  void hand(const ScannedFrame& frame);
+  /// Waits until at most `frames` frames are queued or in the sink. Rethrows
+  /// what the sink threw.
+  void wait_until_at_most(std::size_t frames);
+  /// Waits for every frame handed over. Rethrows what the sink threw.
+  void drain() { wait_until_at_most(0); }
+
+  /// Time spent in ScanSink::frame and time spent waiting in hand() and
+  /// drain(), seconds, so far.
+  double sink_seconds() const;
+  double wait_seconds() const { return wait_seconds_; }
+
+ private:
+  void run();
+  void wait_locked(std::unique_lock<std::mutex>& lock, std::size_t frames);
+
+  ScanSink& sink_;
+  const std::size_t capacity_;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<ScannedFrame> queue_;  // frames waiting for the sink, in order
+  bool in_sink_ = false;            // a frame is in ScanSink::frame
+  bool stopping_ = false;
+  std::exception_ptr error_;
+  double sink_seconds_ = 0;  // under mutex_
+  double wait_seconds_ = 0;  // the scan's thread only
+  std::thread thread_;       // last: started once everything above is set up
+};
+
+}  // namespace snag

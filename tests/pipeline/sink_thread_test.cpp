@@ -1,0 +1,146 @@
+// The scan's sink thread: frames reach the sink in order, one at a time; the
+// scan waits once `capacity` frames are queued or in the sink, so that it is
+// never more than that many frames ahead of the report; what the sink throws
+// comes out of the scan's side, and no frame after it reaches the sink.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "libcd/pipeline/scan.hpp"
+#include "libcd/pipeline/sink_thread.hpp"
+
+namespace snag {
+namespace {
+
+/// Records the positions it gets; holds each frame until released (or not
+/// at all if `gated` is false); throws at `failing`.
+class GatedSink final : public ScanSink {
+ public:
+  GatedSink(bool gated, std::size_t failing) : gated_(gated), failing_(failing) {}
+  void frame(ScannedFrame& frame) override {
+    std::unique_lock<std::mutex> lock(mutex_);
+    seen.push_back(frame.position);
+    changed_.notify_all();
+    changed_.wait(lock, [&] { return !gated_ || released_ > frame.position; });
+    if (frame.position == failing_) throw std::runtime_error("sink failed");
+  }
+  void release_up_to(std::size_t position) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    released_ = position + 1;
+    changed_.notify_all();
+  }
+  void wait_until_seen(std::size_t count) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return seen.size() >= count; });
+  }
+  std::vector<std::size_t> seen;  // under mutex_ until the thread is done
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool gated_;
+  std::size_t failing_;
+  std::size_t released_ = 0;
+};
+
+ScannedFrame at(std::size_t position) {
+  ScannedFrame frame;
+  frame.position = position;
+  return frame;
+}
+
+TEST(SinkThread, HandsFramesInOrderAndWaitsWhenFull) {
+  GatedSink sink(true, 99);
+  SinkThread thread(sink, 2);
+  thread.hand(at(0));
+  thread.hand(at(1));  // frame 0 in the sink, frame 1 queued: full
+  sink.wait_until_seen(1);
+  std::atomic<bool> handed{false};
+  std::thread third([&] {
+    thread.hand(at(2));
+    handed = true;
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_FALSE(handed) << "a third frame went in while two were held";
+  sink.release_up_to(0);
+  third.join();
+  EXPECT_TRUE(handed);
+  sink.release_up_to(2);
+  thread.drain();
+  EXPECT_EQ(sink.seen, (std::vector<std::size_t>{0, 1, 2}));
+  EXPECT_GE(thread.wait_seconds(), 0.0);
+  EXPECT_GT(thread.sink_seconds(), 0.0);
+}
+
+TEST(SinkThread, ASinkErrorComesOutAndNoLaterFrameReachesTheSink) {
+  GatedSink sink(false, 1);
+  SinkThread thread(sink, 2);
+  bool thrown = false;
+  try {
+    for (std::size_t f = 0; f < 50; ++f) thread.hand(at(f));
+    thread.drain();
+  } catch (const std::runtime_error& error) {
+    thrown = true;
+    EXPECT_STREQ(error.what(), "sink failed");
+  }
+  EXPECT_TRUE(thrown);
+  EXPECT_EQ(sink.seen, (std::vector<std::size_t>{0, 1}));
+}
+
+/// Frames of one triangle; reads cost nothing.
+class TriangleSource final : public FrameSource {
+ public:
+  explicit TriangleSource(std::size_t frames) : scene_({make_object("tri", 3, {Triangle{0, 1, 2}})}), frames_(frames) {}
+  const Scene& scene() const override { return scene_; }
+  std::size_t frame_count() const override { return frames_; }
+  void read_frame(std::size_t i, std::vector<Vec3>& x) const override {
+    x = {Vec3{double(i), 0, 0}, Vec3{double(i), 1, 0}, Vec3{double(i), 0, 1}};
+  }
+  std::string description() const override { return "one triangle"; }
+
+ private:
+  Scene scene_;
+  std::size_t frames_;
+};
+
+/// A slow sink that checks how far ahead the scan is when it gets each frame.
+class AheadSink final : public ScanSink {
+ public:
+  explicit AheadSink(const std::atomic<std::size_t>& scanned) : scanned_(scanned) {}
+  void frame(ScannedFrame& frame) override {
+    std::this_thread::sleep_for(std::chrono::milliseconds(3));
+    const std::size_t ahead = scanned_.load() - frame.position;  // frames handed from p on
+    most_ahead = std::max(most_ahead, ahead);
+    EXPECT_EQ((*frame.x)[0].x, double(frame.position)) << "the frame's positions were overwritten";
+  }
+  std::size_t most_ahead = 0;
+
+ private:
+  const std::atomic<std::size_t>& scanned_;
+};
+
+TEST(SinkThread, TheScanIsNeverMoreThanTwoFramesAheadOfTheSink) {
+  const TriangleSource source(40);
+  auto backend = make_cpu_backend();
+  backend->bind(source.scene(), BackendSettings{});
+  std::atomic<std::size_t> scanned{0};
+  AheadSink sink(scanned);
+  const ScanTotals totals =
+      scan_cache(source, *backend, ScanSettings{}, sink, [&](std::size_t done, std::size_t) { scanned = done; });
+  EXPECT_EQ(totals.frames, 40u);
+  // While frame p is in the sink, frame p + 1 may be queued and the scan
+  // work on p + 2: frames handed over (counted by the progress callback)
+  // are never past p + 1.
+  EXPECT_LE(sink.most_ahead, 2u);
+  EXPECT_EQ(sink.most_ahead, 2u) << "a slow sink should have let the queue fill";
+  EXPECT_GT(totals.sink_wait_seconds, 0.0);
+}
+
+}  // namespace
+}  // namespace snag
