@@ -22,6 +22,7 @@
 #include "libcd/core/error.hpp"
 #include "report/summary.hpp"
 #include "tools/common/cli.hpp"
+#include "tools/common/path_list.hpp"
 #include "tools/common/replacing_file.hpp"
 #include "tools/common/run_tool.hpp"
 
@@ -31,6 +32,7 @@ namespace ex = snag::exporters;
 
 struct ReportOptions {
   std::vector<std::string> reports;
+  std::string list;        // --list FILE: more reports, one path a line
   std::string html, junit, csv, markdown, marked_meshes;
   std::string junit_granularity = "pair";
   std::string csv_rows = "regions";
@@ -167,6 +169,24 @@ ex::HtmlScene html_scene(const ex::ReportDigest& digest, const snag::io::CacheOp
   return view;
 }
 
+// The reports a --list names, after those given as arguments: each must be
+// there (a missing one is named with the list's line, before any is read).
+std::vector<std::string> listed_reports(const std::string& list) {
+  std::vector<std::string> reports;
+  for (const snag::tools::ListedPath& listed : snag::tools::read_path_list(list)) {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(listed.path, error)) {
+      snag::InputLocation where{list};
+      where.line = listed.line;
+      const bool exists = std::filesystem::exists(listed.path, error);
+      throw snag::InputError(where, listed.path + (exists ? ": not a file" : ": no such report"));
+    }
+    reports.push_back(listed.path);
+  }
+  if (reports.empty()) throw snag::InputError(snag::InputLocation{list}, "the list names no report");
+  return reports;
+}
+
 int run(const ReportOptions& options, const snag::tools::CacheArguments& cache_arguments) {
   const bool draws = !options.html.empty() || !options.marked_meshes.empty();
   const bool any_output = draws || !options.junit.empty() || !options.csv.empty() || !options.markdown.empty();
@@ -252,13 +272,17 @@ int run(const ReportOptions& options, const snag::tools::CacheArguments& cache_a
 int main(int argc, char** argv) {
   CLI::App app{"snag-report: turn scan reports into an HTML page, JUnit XML, CSV, Markdown and meshes with the\n"
                "regions marked; with no output named, print each report's summary.\n"
-               "  snag-report REPORT... [--html F] [--junit F] [--csv F] [--markdown F] [--marked-meshes DIR]\n"
+               "  snag-report [REPORT...] [--list FILE] [--html F] [--junit F] [--csv F] [--markdown F]\n"
+               "              [--marked-meshes DIR]\n"
                "              [--cache INPUT [-t MESH]]..."};
   ReportOptions options;
   snag::tools::CacheArguments cache;
   app.add_option("reports", options.reports, "Scan reports (JSON Lines, snag-report(5)); '-' reads standard input")
-      ->required()
       ->type_name("REPORT");
+  app.add_option("--list", options.list,
+                 "Also read the reports FILE names, one a line (relative paths from FILE's directory; blank\n"
+                 "lines and '#' comments skipped), as snag-scan --batch's DIR/batch.txt does")
+      ->type_name("FILE");
   app.add_option("--html", options.html, "Write the HTML page (one self-contained file; '-' = standard output)")
       ->type_name("FILE");
   app.add_option("--junit", options.junit, "Write JUnit XML, a testsuite per report ('-' = standard output)")
@@ -320,6 +344,11 @@ int main(int argc, char** argv) {
                                  cache.sample_rate > 0 || cache.start_time >= 0 || cache.end_time >= 0)) {
       throw snag::UsageError("--topology, --name, --sequence, --fps, --start and --end describe a --cache input");
     }
+    if (!options.list.empty()) {
+      const std::vector<std::string> listed = listed_reports(options.list);
+      options.reports.insert(options.reports.end(), listed.begin(), listed.end());
+    }
+    if (options.reports.empty()) throw snag::UsageError("give the reports: REPORT... or --list FILE");
     std::size_t from_stdin = 0;
     for (const std::string& path : options.reports) from_stdin += path == "-";
     if (from_stdin > 0 && (options.reports.size() > 1 || options.csv_rows == "events" ||

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 
 #include "libcd/core/error.hpp"
 #include "report/report_reader.hpp"
 #include "report/summary.hpp"
+#include "tools/common/path_list.hpp"
 #include "tools/common/replacing_file.hpp"
 
 namespace snag::tools {
@@ -31,29 +31,22 @@ bool is_manifest(const fs::path& path) {
 }  // namespace
 
 std::vector<BatchScene> read_batch_list(const std::string& path, const std::string& report_dir) {
-  std::ifstream in(path);
-  if (!in) throw list_error(path, 0, "cannot read the batch list");
-  const fs::path base = fs::path(path).parent_path();
   std::vector<BatchScene> scenes;
   std::map<std::string, std::size_t> line_of_report;
-  std::string text;
-  for (std::size_t line = 1; std::getline(in, text); ++line) {
-    const auto first = text.find_first_not_of(" \t\r");
-    if (first == std::string::npos || text[first] == '#') continue;
-    const auto last = text.find_last_not_of(" \t\r");
-    const fs::path input = text.substr(first, last - first + 1);
+  for (const ListedPath& listed : read_path_list(path)) {
+    const fs::path input = listed.path;
     BatchScene scene;
-    scene.input = (input.is_absolute() ? input : base / input).string();
+    scene.input = listed.path;
     scene.manifest = is_manifest(input);
-    scene.line = line;
+    scene.line = listed.line;
     std::string name = input.stem().string();
     std::replace(name.begin(), name.end(), '%', '_');
     std::replace(name.begin(), name.end(), '*', '_');
     scene.report = (fs::path(report_dir) / (name + ".jsonl")).string();
-    const auto [it, inserted] = line_of_report.emplace(scene.report, line);
+    const auto [it, inserted] = line_of_report.emplace(scene.report, listed.line);
     if (!inserted) {
-      throw list_error(path, line, "its report " + scene.report + " would overwrite that of line " +
-                                       std::to_string(it->second) + ": give the scenes different file names");
+      throw list_error(path, listed.line, "its report " + scene.report + " would overwrite that of line " +
+                                              std::to_string(it->second) + ": give the scenes different file names");
     }
     scenes.push_back(scene);
   }
@@ -100,7 +93,8 @@ void write_batch_summary(const std::vector<BatchScene>& scenes, const std::strin
     }
     const report::Trailer& trailer = reader.trailer();
     failed += !trailer.pass;
-    summary.stream() << scene.report << '\n';
+    // Its name in DIR: snag-report --list takes paths from the list's directory.
+    summary.stream() << fs::path(scene.report).filename().string() << '\n';
     if (!quiet) {
       std::printf("%s: %zu events (%zu collisions, %zu intersections), %zu regions, %zu tracks: %s\n",
                   scene.report.c_str(), trailer.events, trailer.collisions, trailer.intersections, trailer.regions,

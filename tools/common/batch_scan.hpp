@@ -1,7 +1,7 @@
 // snag-scan --batch LIST: many scenes in one run, each with its own report,
 // spread over the run's ranks by size (largest first, each to the least
 // loaded rank), and a batch summary: the list of the reports, which
-// snag-report reads as its arguments to make one page of the batch.
+// snag-report --list reads to make one page of the batch.
 #pragma once
 
 #include <cstddef>
@@ -34,8 +34,8 @@ std::vector<std::vector<std::size_t>> assign_by_size(const std::vector<std::size
 /// files; 0 for patterns and globs. `inputs`: the cache inputs (topology meshes included).
 std::size_t input_bytes(const std::vector<std::string>& inputs);
 
-/// Writes the batch summary DIR/batch.txt (each report's path, one a line,
-/// in list order) when complete, and prints a line per scene (verdict and
+/// Writes the batch summary DIR/batch.txt (each report's file name, one a
+/// line, in list order: a path list, read_path_list(), from DIR) when complete, and prints a line per scene (verdict and
 /// counts, read from its report) on standard output unless `quiet`.
 void write_batch_summary(const std::vector<BatchScene>& scenes, const std::string& report_dir, bool quiet);
 
