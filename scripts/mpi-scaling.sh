@@ -61,9 +61,12 @@ libraries=$here/ompi/lib/x86_64-linux-gnu/openmpi/lib:$here/pmix2/lib:$here/lib
 one=$(seconds env LD_LIBRARY_PATH="$libraries" "$here/bin/snag-scan" "${inputs[@]}" -r "$work/one.jsonl") || exit 1
 python3 -c "import json; t=json.loads(open('$work/one.jsonl').readlines()[-1]); s=t['summary'];
 h=json.loads(open('$work/one.jsonl').readline())
-print('one process (%s): %s s; %d events, %d regions, %d tracks; report %.2f s of it' % (h['settings']['backend'], '$one', s['events'], s['regions'], s['tracks'], t['timing']['report']))"
-printf '%-6s %10s %9s %11s %10s\n' ranks seconds speed-up efficiency identical
+print('one process (%s): %s s; %d events, %d regions, %d tracks; report %.2f s of it (%.3f of the scan: a merge cost)' % (h['settings']['backend'], '$one', s['events'], s['regions'], s['tracks'], t['timing']['report'], t['timing']['report'] / t['timing']['total']))"
+# after last: rank 0's seconds once the other ranks were done (the trailer's timing.after_last_rank).
+printf '%-6s %10s %9s %11s %10s %11s\n' ranks seconds speed-up efficiency identical 'after last'
 for k in "${ranks[@]}"; do
   t=$(seconds "$here/mpi-run.sh" -n "$k" --bind-to none "$here/bin/snag-scan" "${inputs[@]}" -r "$work/$k.jsonl") || exit 1
-  printf '%-6s %10.2f %9.2f %11.2f %10s\n' "$k" "$t" "$(calc "$one / $t")" "$(calc "$one / $t / $k")" "$(same_report "$work/one.jsonl" "$work/$k.jsonl")"
+  after=$(python3 -c "import json; print(round(json.loads(open('$work/$k.jsonl').readlines()[-1])['timing'].get('after_last_rank', 0), 3))")
+  printf '%-6s %10.2f %9.2f %11.2f %10s %11s\n' "$k" "$t" "$(calc "$one / $t")" "$(calc "$one / $t / $k")" \
+    "$(same_report "$work/one.jsonl" "$work/$k.jsonl")" "$after"
 done

@@ -14,6 +14,8 @@
 #include <new>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "libcd/core/error.hpp"
 #include "snag/config.hpp"
 #include "tools/common/cli.hpp"
@@ -181,6 +183,7 @@ int Run::run(const char* tool, const std::string& parts_near, const std::functio
 
   done_.assign(size_, kNotYet);
   codes_.assign(size_, kExitClean);
+  finished_at_.assign(size_, std::chrono::steady_clock::time_point{});
   done_[0] = kFinished;
   int code = kExitClean, failed_rank = 0;
   std::string failure;
@@ -212,6 +215,7 @@ void Run::receive_done() {
   int head[2] = {kFailed, kExitInternal};
   if (message.size() >= sizeof head) std::memcpy(head, message.data(), sizeof head);
   const int rank = status.MPI_SOURCE;
+  finished_at_[rank] = std::chrono::steady_clock::now();
   done_[rank] = head[0];
   codes_[rank] = head[1];
   if (head[0] == kFailed) throw RankFailed{rank, head[1], message.substr(std::min(message.size(), sizeof head))};
@@ -322,14 +326,21 @@ Run::Totals Run::scan_and_merge(const FrameSource& source, const std::vector<Ste
     timing.push_back(part.timing_json);
   }
   Totals totals;
-  totals.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto end = std::chrono::steady_clock::now();
+  totals.total_seconds = std::chrono::duration<double>(end - start).count();
+  // What the split leaves rank 0 to do once the other ranks are done: the
+  // measure of how well its merge overlaps their scans.
+  auto last_rank_end = start;
+  for (int r = 1; r < size_; ++r) last_rank_end = std::max(last_rank_end, finished_at_[r]);
   if (stages.empty()) {  // no frames at all: what a scan of nothing writes
     const ScanTotals nothing;
     stages.push_back(stages_json(nothing));
     timing.push_back(timing_json(nothing));
   }
   totals.stages_json = merge_stages_json(stages);
-  totals.timing_json = merge_timing_json(timing, totals.total_seconds);
+  nlohmann::json timing_object = nlohmann::json::parse(merge_timing_json(timing, totals.total_seconds));
+  if (size_ > 1) timing_object["after_last_rank"] = std::chrono::duration<double>(end - last_rank_end).count();
+  totals.timing_json = timing_object.dump();
   return totals;
 }
 

@@ -12,6 +12,7 @@
 // main thread of each rank calls MPI. Built only with SNAG_WITH_MPI.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <string>
 #include <vector>
@@ -73,8 +74,9 @@ class Run {
     double total_seconds = 0;
   };
   /// Rank 0: scans the first of `ranges` into `sink`, then each other rank's
-  /// part in rank order, following it while its rank writes it. Throws what
-  /// it or a rank threw.
+  /// part in rank order, following it while its rank writes it. With other
+  /// ranks, the timing gets "after_last_rank": rank 0's seconds from the
+  /// last other rank's end to its own. Throws what it or a rank threw.
   Totals scan_and_merge(const FrameSource& source, const std::vector<StepRange>& ranges, Backend& backend,
                         const ScanSettings& settings, ScanSink& sink, const ProgressCallback& progress);
 
@@ -93,6 +95,7 @@ class Run {
   std::string parts_dir_;
   std::vector<int> done_;        // rank 0: how each rank ended (Ending in mpi_scan.cpp)
   std::vector<int> codes_;       // rank 0: each finished rank's exit code
+  std::vector<std::chrono::steady_clock::time_point> finished_at_;  // rank 0: when each rank said it was done
   bool stop_received_ = false;   // ranks > 0: rank 0 said stop (or end)
 };
 
