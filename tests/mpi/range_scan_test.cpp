@@ -139,6 +139,12 @@ class SlowCopy {
   std::atomic<std::size_t> waits_{0};
 };
 
+std::string temporary_dir() {
+  std::string dir = ::testing::TempDir() + "range_scan_XXXXXX";
+  if (!mkdtemp(dir.data())) throw std::runtime_error("mkdtemp");
+  return dir;
+}
+
 struct Scanned {
   std::string report;
   std::string stages_json;
@@ -221,6 +227,21 @@ class SplitScan : public ::testing::Test {
     return {out.str(), merged};
   }
 
+  void expect_split_gives_whole(std::size_t parts, bool following = false, double merge_cost = 0) {
+    const Scanned whole = scan_whole();
+    const Scanned split = scan_split(parts, temporary_dir(), following, merge_cost);
+    EXPECT_EQ(split.stages_json, whole.stages_json);
+    EXPECT_EQ(split.report, whole.report);
+  }
+
+  // The second of two ranges, written whole into a part at `path`.
+  void write_second_half(const std::string& path) {
+    report::PartWriter part(path, redecide_);
+    const ScanTotals totals =
+        scan_range(*source_, split_steps(source_->frame_count(), 2)[1], *backend_, ScanSettings{}, part);
+    part.finish({totals.frames, stages_json(totals), "{}"});
+  }
+
   ScanSetup setup_;
   std::unique_ptr<FrameSource> source_;
   std::unique_ptr<report::RuleSet> rules_;
@@ -230,11 +251,6 @@ class SplitScan : public ::testing::Test {
   std::size_t redecided_ = 0;
 };
 
-std::string temporary_dir() {
-  std::string dir = ::testing::TempDir() + "range_scan_XXXXXX";
-  if (!mkdtemp(dir.data())) throw std::runtime_error("mkdtemp");
-  return dir;
-}
 
 TEST_F(SplitScan, ThreeRangesGiveTheSingleScanReport) {
   const Scanned whole = scan_whole();
@@ -263,13 +279,7 @@ TEST_F(SplitScan, ThreeRangesGiveTheSingleScanReport) {
 
 // The parts read while they are written, over uneven ranges (rank 0's
 // smaller first range), give the same report.
-TEST_F(SplitScan, PartsFollowedWhileWrittenGiveTheSingleScanReport) {
-  const Scanned whole = scan_whole();
-  const std::string dir = temporary_dir();
-  const Scanned split = scan_split(3, dir, true, 0.3);
-  EXPECT_EQ(split.stages_json, whole.stages_json);
-  EXPECT_EQ(split.report, whole.report);
-}
+TEST_F(SplitScan, PartsFollowedWhileWrittenGiveTheSingleScanReport) { expect_split_gives_whole(3, true, 0.3); }
 
 // A writer that finishes short, or never writes its part: the reader says so
 // instead of waiting for ever.
@@ -277,12 +287,7 @@ TEST_F(SplitScan, PartFollowedToAnEarlyEndIsTruncated) {
   open("20:24");
   const std::string dir = temporary_dir();
   const std::string path = dir + "/part-1";
-  {
-    report::PartWriter part(path, redecide_);
-    const ScanTotals totals = scan_range(*source_, split_steps(source_->frame_count(), 2)[1], *backend_,
-                                         ScanSettings{}, part);
-    part.finish({totals.frames, stages_json(totals), "{}"});
-  }
+  write_second_half(path);
   report::ReportSink sink(source_->scene(), header_, *rules_, nullptr);
   const std::size_t size = std::filesystem::file_size(path);
   {
@@ -309,23 +314,14 @@ TEST_F(SplitScan, PartFollowedToAnEarlyEndIsTruncated) {
 
 TEST_F(SplitScan, MoreRangesThanStepsGiveTheSingleScanReport) {
   open("20:22");
-  const Scanned whole = scan_whole();
-  const std::string dir = temporary_dir();
-  const Scanned split = scan_split(4, dir);
-  EXPECT_EQ(split.stages_json, whole.stages_json);
-  EXPECT_EQ(split.report, whole.report);
+  expect_split_gives_whole(4);
 }
 
 TEST_F(SplitScan, TruncatedPartIsRejectedWithItsName) {
   open("20:24");
   const std::string dir = temporary_dir();
   const std::string path = dir + "/part-1";
-  const StepRange range = split_steps(source_->frame_count(), 2)[1];
-  {
-    report::PartWriter part(path, redecide_);
-    const ScanTotals totals = scan_range(*source_, range, *backend_, ScanSettings{}, part);
-    part.finish({totals.frames, stages_json(totals), "{}"});
-  }
+  write_second_half(path);
   std::string bytes;
   {
     std::ifstream in(path, std::ios::binary);
