@@ -69,7 +69,7 @@ void BoxGridBroadPhase::choose_grid() {
   }
   double span = 0;
   for (int a = 0; a < 3; ++a) span = std::max(span, hi[a] - lo[a]);
-  double size = n ? 1.5 * extent_sum / double(n) : 1.0;
+  double size = n ? 1.0 * extent_sum / double(n) : 1.0;
   if (!(size > 0) || !std::isfinite(size)) size = span > 0 ? span : 1.0;
   const double max_cells = 4.0 * double(n) + 64.0;
   const double max_registrations = 16.0 * double(n) + 64.0;
@@ -133,59 +133,34 @@ void BoxGridBroadPhase::register_boxes() {
           visit(std::size_t(x) + std::size_t(dims_[0]) * (std::size_t(y) + std::size_t(dims_[1]) * z),
                 std::uint32_t(x == lo_x) | std::uint32_t(y == lo_y) << 1 | std::uint32_t(z == lo_z) << 2);
   };
-  // Counting sort by cell, in parallel: counts and cursors by atomic adds.
-  // The order within a cell depends on the thread schedule; the output does
-  // not (each triangle's partners are sorted).
-  auto atomic_add = [](std::uint64_t& counter) { return __atomic_fetch_add(&counter, 1, __ATOMIC_RELAXED); };
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
-    for (std::size_t t = range.begin(); t != range.end(); ++t)
-      for_each_cell(t, [&](std::size_t c, std::uint32_t) { atomic_add(cell_first_[c + 1]); });
-  });
+  // A stable counting sort by cell, on one thread: the registrations of a
+  // cell come out in triangle order, whatever the thread count, and each one's
+  // place is known as it is written. Plain increments cost less than the
+  // atomic adds and the per-cell sort that a parallel fill needs (cloth 100k,
+  // 8 frames, 2 threads: this stage 0.24 -> 0.14 s).
+  for (std::size_t t = 0; t < n; ++t)
+    for_each_cell(t, [&](std::size_t c, std::uint32_t) { ++cell_first_[c + 1]; });
   std::size_t used = 0;
   for (std::size_t c = 0; c < cells; ++c) {
     used += cell_first_[c + 1] != 0;
     cell_first_[c + 1] += cell_first_[c];
   }
   members_.resize(registrations);
+  place_in_cell_.resize(registrations);
   std::vector<std::uint64_t>& next = next_in_cell_;
   next.assign(cell_first_.begin(), cell_first_.end() - 1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
-    for (std::size_t t = range.begin(); t != range.end(); ++t) {
-      Member member;
-      member.box = boxes_[t];
-      member.triangle = static_cast<Index>(t);
-      for_each_cell(t, [&](std::size_t c, std::uint32_t lowest_along) {
-        member.lowest_along = lowest_along;
-        members_[atomic_add(next[c])] = member;
-      });
-    }
-  });
-  // Each cell by triangle (cells hold a few dozen: insertion sort), which
-  // makes the order independent of the schedule and lets a triangle's query
-  // start at its own place; then each registration's place is noted.
-  place_in_cell_.resize(registrations);
-  const std::size_t dim_x = static_cast<std::size_t>(dims_[0]), dim_y = static_cast<std::size_t>(dims_[1]);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 4096), [&](const auto& range) {
-    for (std::size_t c = range.begin(); c != range.end(); ++c) {
-      Member* first = members_.data() + cell_first_[c];
-      Member* last = members_.data() + cell_first_[c + 1];
-      for (Member* m = first + 1; m < last; ++m) {
-        const Member moving = *m;
-        Member* hole = m;
-        for (; hole != first && (hole - 1)->triangle > moving.triangle; --hole) *hole = *(hole - 1);
-        *hole = moving;
-      }
-      const std::uint32_t x = static_cast<std::uint32_t>(c % dim_x);
-      const std::uint32_t y = static_cast<std::uint32_t>(c / dim_x % dim_y);
-      const std::uint32_t z = static_cast<std::uint32_t>(c / dim_x / dim_y);
-      for (Member* m = first; m < last; ++m) {
-        const Index t = m->triangle;
-        const std::uint64_t span_x = cell_hi_[0][t] - cell_lo_[0][t] + 1, span_y = cell_hi_[1][t] - cell_lo_[1][t] + 1;
-        const std::uint64_t rank = x - cell_lo_[0][t] + span_x * ((y - cell_lo_[1][t]) + span_y * (z - cell_lo_[2][t]));
-        place_in_cell_[first_registration_[t] + rank] = static_cast<std::uint32_t>(m - first);
-      }
-    }
-  });
+  for (std::size_t t = 0; t < n; ++t) {
+    Member member;
+    member.box = boxes_[t];
+    member.triangle = static_cast<Index>(t);
+    std::uint32_t* place = place_in_cell_.data() + first_registration_[t];
+    for_each_cell(t, [&](std::size_t c, std::uint32_t lowest_along) {
+      member.lowest_along = lowest_along;
+      const std::uint64_t slot = next[c]++;
+      members_[slot] = member;
+      *place++ = static_cast<std::uint32_t>(slot - cell_first_[c]);
+    });
+  }
   stats_.cells_used = used;
   stats_.registrations = registrations;
   stats_.home_registrations = n;
