@@ -96,6 +96,17 @@ Index RegionBuilder::first_face(const Event& e) const {
   return on_a < edge_face_start_[e.a + 1] ? edge_faces_[on_a] : edge_faces_[edge_face_start_[e.b]];
 }
 
+// A face of event_faces(e) from its second element (the first face around
+// the vertex of a vertex-face pair, the first face on edge b).
+Index RegionBuilder::second_face(const Event& e) const {
+  if (e.kind == EventKind::kIntersection) return e.b;
+  if (e.type == ContactType::kVertexFace) {  // a vertex on no face (a loose one) joins nothing
+    const Index around = vertex_face_start_[e.a];
+    return around < vertex_face_start_[e.a + 1] ? vertex_faces_[around] : e.b;
+  }
+  return edge_faces_[edge_face_start_[e.b]];
+}
+
 void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group) {
   if (++stamp_ == 0) {  // after 2^32 groups: start the stamps again
     for (std::size_t f = 0; f < scene_.triangle_count(); ++f) face_stamp_[f].store(0, std::memory_order_relaxed);
@@ -124,11 +135,12 @@ void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vect
   for (const std::vector<Index>& mine : claimed) touched_.insert(touched_.end(), mine.begin(), mine.end());
   tbb::parallel_sort(touched_.begin(), touched_.end());
   // The faces of one event are one region; so are faces that share a vertex.
+  // The faces around a vertex, or on an edge, share that vertex: of an
+  // event's faces, only one of each element's needs joining here.
   tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    std::vector<Index>& event = faces.local();
     for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      event_faces(events[group[k]], event);
-      for (std::size_t j = 1; j < event.size(); ++j) face_sets_.unite(event[0], event[j]);
+      const Event& e = events[group[k]];
+      face_sets_.unite(first_face(e), second_face(e));
     }
   });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touched_.size(), kEventsPerTask),
@@ -254,6 +266,26 @@ TrackBuilder::FaceKey TrackBuilder::key(const RegionRecord& r, std::size_t objec
   return ((pair * 2 + (r.kind == EventKind::kCollision ? 1 : 0)) << 32) | face;
 }
 
+void TrackBuilder::tracks_touched(const RegionRecord& region, std::size_t object, const std::vector<std::size_t>& faces,
+                                  std::vector<std::size_t>& tracks) const {
+  // A region's faces ascend, and so do their keys: each search goes on from
+  // where the last one ended, in steps that double (a galloping search), so
+  // that the faces of a region cost little more than one pass over them.
+  auto from = last_faces_.begin();
+  const auto end = last_faces_.end();
+  for (std::size_t f : faces) {
+    const FaceKey k = key(region, object, f);
+    std::ptrdiff_t step = 1;  // everything before `from` is below k
+    while (step < end - from && from[step].first < k) {
+      from += step;
+      step *= 2;
+    }
+    const auto bound = step < end - from ? from + step + 1 : end;
+    from = std::lower_bound(from, bound, k, [](const auto& entry, FaceKey key) { return entry.first < key; });
+    if (from != end && from->first == k) tracks.push_back(from->second);
+  }
+}
+
 void TrackBuilder::add_frame(std::size_t position, std::size_t frame, std::vector<RegionRecord>& regions,
                              std::vector<TrackRecord>& ended) {
   const std::size_t first_ended = ended.size();
@@ -268,19 +300,15 @@ void TrackBuilder::add_frame(std::size_t position, std::size_t frame, std::vecto
     while (parent[t] != t) t = parent[t];
     return t;
   };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, regions.size()), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t r = range.begin(); r < range.end(); ++r) {
+      tracks_touched(regions[r], regions[r].object_a, regions[r].faces_a, touched[r]);
+      tracks_touched(regions[r], regions[r].object_b, regions[r].faces_b, touched[r]);
+      std::sort(touched[r].begin(), touched[r].end());
+      touched[r].erase(std::unique(touched[r].begin(), touched[r].end()), touched[r].end());
+    }
+  });
   for (std::size_t r = 0; r < regions.size(); ++r) {
-    const RegionRecord& region = regions[r];
-    auto look = [&](std::size_t object, const std::vector<std::size_t>& faces) {
-      for (std::size_t f : faces) {
-        const FaceKey k = key(region, object, f);
-        auto it = std::lower_bound(last_faces_.begin(), last_faces_.end(), std::make_pair(k, std::size_t{0}));
-        if (it != last_faces_.end() && it->first == k) touched[r].push_back(it->second);
-      }
-    };
-    look(region.object_a, region.faces_a);
-    look(region.object_b, region.faces_b);
-    std::sort(touched[r].begin(), touched[r].end());
-    touched[r].erase(std::unique(touched[r].begin(), touched[r].end()), touched[r].end());
     for (std::size_t t : touched[r]) parent.emplace(t, t);
     for (std::size_t t : touched[r]) {
       const std::size_t a = find(touched[r].front()), b = find(t);
@@ -357,7 +385,7 @@ void TrackBuilder::add_frame(std::size_t position, std::size_t frame, std::vecto
     for (std::size_t f : region.faces_a) last_faces_.emplace_back(key(region, region.object_a, f), region.track);
     for (std::size_t f : region.faces_b) last_faces_.emplace_back(key(region, region.object_b, f), region.track);
   }
-  std::sort(last_faces_.begin(), last_faces_.end());
+  tbb::parallel_sort(last_faces_.begin(), last_faces_.end());
 }
 
 void TrackBuilder::finish(std::vector<TrackRecord>& ended) {

@@ -53,6 +53,7 @@ class RegionBuilder {
  private:
   void event_faces(const Event& event, std::vector<Index>& faces) const;
   Index first_face(const Event& event) const;
+  Index second_face(const Event& event) const;
   /// Stamps the faces of the group's events, lists them in touched_ (ascending)
   /// and joins those that an event names together or that share a vertex.
   void join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group);
@@ -88,6 +89,10 @@ class TrackBuilder {
  private:
   using FaceKey = std::uint64_t;  // pair and kind above, global face below
   FaceKey key(const RegionRecord& r, std::size_t object, std::size_t local_face) const;
+  /// Appends the tracks of the last frame that hold one of `faces` (local,
+  /// ascending) of `object`, for the region's pair and kind.
+  void tracks_touched(const RegionRecord& region, std::size_t object, const std::vector<std::size_t>& faces,
+                      std::vector<std::size_t>& tracks) const;
 
   const Scene& scene_;
   std::size_t next_id_ = 0;
