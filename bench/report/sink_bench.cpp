@@ -5,28 +5,36 @@
 // each frame() call: wall and CPU time of the process (the sink's thread and
 // the threads it formats events on; nothing else runs then), so that the
 // number holds on a machine that other work shares. The report goes to
-// /dev/null.
+// /dev/null. Beside the whole sink, the same frames' regions (RegionBuilder,
+// every event in a region: the sink with no rules) and tracks (TrackBuilder)
+// are timed alone; the rest of the sink is the rules, counts, event records
+// and writing.
 //
-//   snag-bench-report-sink T0 T1 [FRAMES] [RUNS] [MAX_EVENTS]
+//   snag-bench-report-sink T0 T1 [FRAMES] [RUNS] [MAX_EVENTS] [THREADS]
 //
-// Defaults 12, 3 and snag-scan's --max-events default, 100000 (0: every
-// event listed).
+// Defaults 12, 3, snag-scan's --max-events default, 100000 (0: every event
+// listed), and every core (THREADS caps the threads of the sink's work).
 //
 // Prints one JSON object: events per frame, and per-frame milliseconds
-// (median over runs of each run's mean) of the sink, wall and CPU.
+// (median over runs of each run's mean) of the sink, wall and CPU, and of
+// its regions and tracks, wall and CPU.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <exception>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <tbb/global_control.h>
+
 #include "io/open_cache.hpp"
 #include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/scan.hpp"
+#include "report/regions.hpp"
 #include "report/report_sink.hpp"
 #include "report/report_writer.hpp"
 #include "report/rules.hpp"
@@ -63,14 +71,15 @@ double median(std::vector<double> v) {
 
 int run(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: %s T0 T1 [FRAMES] [RUNS] [MAX_EVENTS]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s T0 T1 [FRAMES] [RUNS] [MAX_EVENTS] [THREADS]\n", argv[0]);
     return 2;
   }
   const std::size_t frames = argc > 3 ? std::stoul(argv[3]) : 12;
   const std::size_t runs = argc > 4 ? std::stoul(argv[4]) : 3;
   const std::size_t max_events = argc > 5 ? std::stoul(argv[5]) : 100000;
-  if (frames < 2 || runs < 1) {
-    std::fprintf(stderr, "%s: FRAMES must be at least 2 and RUNS at least 1\n", argv[0]);
+  const std::size_t threads = argc > 6 ? std::stoul(argv[6]) : 0;
+  if (frames < 2 || runs < 1 || threads > 4096) {
+    std::fprintf(stderr, "%s: FRAMES must be at least 2, RUNS at least 1 and THREADS at most 4096\n", argv[0]);
     return 2;
   }
 
@@ -97,7 +106,12 @@ int run(int argc, char** argv) {
   header.frame_count = frames;
   header.settings.max_events = max_events;
 
-  std::vector<double> wall_ms, cpu_ms;
+  // The scan above used every core; the sink's work gets THREADS of them.
+  std::unique_ptr<tbb::global_control> thread_cap;
+  if (threads > 0)
+    thread_cap = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+
+  std::vector<double> wall_ms, cpu_ms, regions_ms, tracks_ms, regions_cpu_ms, tracks_cpu_ms;
   std::size_t events = 0;
   for (std::size_t run = 0; run < runs; ++run) {
     std::ofstream null("/dev/null");
@@ -126,11 +140,40 @@ int run(int argc, char** argv) {
     sink.finish("{}", "{}");
     wall_ms.push_back(1e3 * wall / static_cast<double>(frames));
     cpu_ms.push_back(1e3 * cpu / static_cast<double>(frames));
+
+    snag::report::RegionBuilder regions(scene);
+    snag::report::TrackBuilder tracks(scene);
+    std::vector<snag::report::RegionRecord> frame_regions;
+    std::vector<snag::report::TrackRecord> ended;
+    std::vector<std::size_t> region_of;
+    double region_seconds = 0, track_seconds = 0, region_cpu = 0, track_cpu = 0;
+    for (std::size_t position = 0; position < frames; ++position) {
+      const Recorded& r = recorded.frames[position % 2];
+      const std::vector<char> in_region(r.events.size(), 1);
+      frame_regions.clear();
+      ended.clear();
+      const auto start = std::chrono::steady_clock::now();
+      const double cpu_start = process_cpu_seconds();
+      regions.build(r.events, in_region, r.x, position, frame_regions, region_of);
+      const auto built = std::chrono::steady_clock::now();
+      const double cpu_built = process_cpu_seconds();
+      tracks.add_frame(position, position, frame_regions, ended);
+      region_seconds += std::chrono::duration<double>(built - start).count();
+      track_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count();
+      region_cpu += cpu_built - cpu_start;
+      track_cpu += process_cpu_seconds() - cpu_built;
+    }
+    regions_ms.push_back(1e3 * region_seconds / static_cast<double>(frames));
+    tracks_ms.push_back(1e3 * track_seconds / static_cast<double>(frames));
+    regions_cpu_ms.push_back(1e3 * region_cpu / static_cast<double>(frames));
+    tracks_cpu_ms.push_back(1e3 * track_cpu / static_cast<double>(frames));
   }
-  std::printf("{\"frames\":%zu,\"runs\":%zu,\"max_events\":%zu,\"events_per_frame\":%.0f,\"sink_wall_ms_per_frame\":%.2f,"
-              "\"sink_cpu_ms_per_frame\":%.2f}\n",
-              frames, runs, max_events, static_cast<double>(events) / static_cast<double>(frames * runs), median(wall_ms),
-              median(cpu_ms));
+  std::printf("{\"frames\":%zu,\"runs\":%zu,\"max_events\":%zu,\"threads\":%zu,\"events_per_frame\":%.0f,"
+              "\"sink_wall_ms_per_frame\":%.2f,\"sink_cpu_ms_per_frame\":%.2f,\"regions_ms_per_frame\":%.2f,"
+              "\"regions_cpu_ms_per_frame\":%.2f,\"tracks_ms_per_frame\":%.2f,\"tracks_cpu_ms_per_frame\":%.2f}\n",
+              frames, runs, max_events, threads, static_cast<double>(events) / static_cast<double>(frames * runs),
+              median(wall_ms), median(cpu_ms), median(regions_ms), median(regions_cpu_ms), median(tracks_ms),
+              median(tracks_cpu_ms));
   return 0;
 }
 
@@ -138,7 +181,7 @@ int main(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const std::logic_error&) {  // std::stoul: not a number
-    std::fprintf(stderr, "%s: FRAMES, RUNS and MAX_EVENTS must be whole numbers\n", argv[0]);
+    std::fprintf(stderr, "%s: FRAMES, RUNS, MAX_EVENTS and THREADS must be whole numbers\n", argv[0]);
     return 2;
   } catch (const std::exception& error) {  // a mesh that cannot be read, a count that is not one
     std::fprintf(stderr, "%s: %s\n", argv[0], error.what());
