@@ -95,9 +95,9 @@ json stage_seconds(const BroadPhaseStats& s) {
 
 /// How the static triangle tests of every frame were decided, on the CPU
 /// back end's broad phase pairs and in its order (triangle_triangle_frame.hpp):
-/// by the 2D exact-sign filter or by the exact-sign test after it, and how
-/// often an orientation predicate of the per-triangle axes, of the filter or
-/// of the test needed its exact stage.
+/// by the plane-side rejection, the 2D exact-sign filter or the exact-sign
+/// test after them, and how often an orientation predicate of each (and of
+/// the per-triangle axes) needed its exact stage.
 json static_filter_counts(const BenchScene& bench) {
   auto phase = make_broad_phase(BroadPhaseMethod::kBoxGrid);
   phase->build(bench.scene, BroadPhaseSettings{});
@@ -111,6 +111,9 @@ json static_filter_counts(const BenchScene& bench) {
     for (const TrianglePair& p : pairs) frame_triangles_intersect(triangles, x, axes, p, true, counters);
   }
   return {{"pairs", counters.pairs},
+          {"decided_by_plane", counters.decided_by_plane},
+          {"plane_predicates", counters.plane.calls},
+          {"plane_predicates_exact", counters.plane.exact},
           {"decided_by_filter", counters.decided_by_filter},
           {"axes_predicates", counters.axes.calls},
           {"axes_predicates_exact", counters.axes.exact},

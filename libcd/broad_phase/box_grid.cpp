@@ -32,8 +32,6 @@ float float_at_least(double x) {
 /// order) do not depend on the thread count.
 constexpr std::size_t kBlock = 256;
 
-/// Registrations tested before their candidates' DOPs are.
-constexpr int kChunk = 64;
 
 }  // namespace
 
@@ -180,6 +178,7 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
   t = Clock::now();
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   block_pairs_.resize(blocks);
+  block_candidates_.resize(blocks);
   block_tests_.assign(blocks, 0);
   block_culled_.assign(blocks, 0);
   const std::size_t dim_x = static_cast<std::size_t>(dims_[0]), dim_y = static_cast<std::size_t>(dims_[1]);
@@ -192,17 +191,19 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
     std::vector<TrianglePair>& out = block_pairs_[block];
     out.clear();
+    std::vector<Index>& candidates = block_candidates_[block];
     std::size_t tests = 0, culled = 0;
     const std::size_t end = std::min(n, (block + 1) * kBlock);
     for (std::size_t ta = block * kBlock; ta < end; ++ta) {
       const Index a = static_cast<Index>(ta);
-      const Dop18& da = dops[a];
       const FloatBox box = boxes_[a];
       const float lo_x = box.lo[0], lo_y = box.lo[1], lo_z = box.lo[2];
       const float hi_x = box.hi[0], hi_y = box.hi[1], hi_z = box.hi[2];
       const std::uint32_t ax = cell_lo_x[a], ay = cell_lo_y[a], az = cell_lo_z[a];
       const std::uint32_t* place = place_in_cell + first_registration[a];
-      const std::size_t first_out = out.size();
+      // First every cell's boxes, without branches (a branch would often
+      // mispredict), the candidates compacted ...
+      std::size_t count = 0;
       for (std::uint32_t z = az; z <= cell_hi_z[a]; ++z) {
         for (std::uint32_t y = ay; y <= cell_hi_y[a]; ++y) {
           for (std::uint32_t x = ax; x <= cell_hi_x[a]; ++x) {
@@ -214,33 +215,39 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
             const std::uint32_t need =
                 std::uint32_t(x != ax) | std::uint32_t(y != ay) << 1 | std::uint32_t(z != az) << 2;
             // The cell is sorted by triangle: those after a's own place are b > a.
-            const Member* k = members + cell_first[c] + *place++ + 1;
-            const Member* k_end = members + cell_first[c + 1];
-            while (k < k_end) {
-              // Tests without branches (a branch would often mispredict),
-              // the candidates compacted, then their DOPs tested.
-              const Member* chunk_end = k + std::min<std::ptrdiff_t>(kChunk, k_end - k);
-              Index candidates[kChunk];
-              int count = 0;
-              for (const Member* m = k; m != chunk_end; ++m) {
-                const bool skip = ((m->lowest_along & need) != need) | (m->box.lo[0] > hi_x) |
-                                  (m->box.hi[0] < lo_x) | (m->box.lo[1] > hi_y) | (m->box.hi[1] < lo_y) |
-                                  (m->box.lo[2] > hi_z) | (m->box.hi[2] < lo_z);
-                candidates[count] = m->triangle;
-                count += !skip;
-              }
-              tests += static_cast<std::size_t>(chunk_end - k);
-              k = chunk_end;
-              for (int h = 0; h < count; ++h) {
-                const Index b = candidates[h];
-                if (dop_overlap(da, dops[b]))
-                  out.push_back({a, b});
-                else
-                  ++culled;
-              }
+            const Member* m = members + cell_first[c] + *place++ + 1;
+            const Member* m_end = members + cell_first[c + 1];
+            tests += static_cast<std::size_t>(m_end - m);
+            if (candidates.size() < count + static_cast<std::size_t>(m_end - m))
+              candidates.resize(2 * (count + static_cast<std::size_t>(m_end - m)));
+            Index* kept = candidates.data();
+            for (; m != m_end; ++m) {
+              const bool skip = ((m->lowest_along & need) != need) | (m->box.lo[0] > hi_x) |
+                                (m->box.hi[0] < lo_x) | (m->box.lo[1] > hi_y) | (m->box.hi[1] < lo_y) |
+                                (m->box.lo[2] > hi_z) | (m->box.hi[2] < lo_z);
+              kept[count] = m->triangle;
+              count += !skip;
             }
           }
         }
+      }
+      // ... then their DOPs, fetched all at once first: in a mesh whose
+      // triangle order is not spatial (cloth-ball's) each is a cache miss,
+      // and waiting for them one by one was a quarter of this stage.
+      const Index* kept = candidates.data();
+      for (std::size_t h = 0; h < count; ++h) {
+        const char* dop = reinterpret_cast<const char*>(&dops[kept[h]]);
+        __builtin_prefetch(dop);
+        __builtin_prefetch(dop + 64);
+        __builtin_prefetch(dop + sizeof(Dop18) - 1);
+      }
+      const Dop18& da = dops[a];
+      const std::size_t first_out = out.size();
+      for (std::size_t h = 0; h < count; ++h) {
+        if (dop_overlap(da, dops[kept[h]]))
+          out.push_back({a, kept[h]});
+        else
+          ++culled;
       }
       std::sort(out.begin() + static_cast<std::ptrdiff_t>(first_out), out.end());
     }

@@ -14,7 +14,8 @@
 //      b > a are read, half of a cell on average), without branches, for
 //      boxes that overlap a's, keeping the pair only in the cell that holds
 //      the low corner of the two boxes' intersection (so it is found once,
-//      without a sort and unique); then the 18-DOPs of those are tested;
+//      without a sort and unique); then the 18-DOPs of those are fetched
+//      together (prefetches) and tested;
 //   4. a's partners are sorted (a handful) and the blocks concatenated in
 //      order, so the output is sorted and the same for every thread count.
 // The cell size is the mean box extent (at 1.5 times it, static detection of
@@ -102,6 +103,7 @@ class BoxGridBroadPhase : public BroadPhase {
   std::vector<std::uint32_t> place_in_cell_;
   // Output blocks, one per fixed range of triangles.
   std::vector<std::vector<TrianglePair>> block_pairs_;
+  std::vector<std::vector<Index>> block_candidates_;  ///< per block: a triangle's boxes that overlap, before the DOPs
   std::vector<std::size_t> block_tests_, block_culled_;
 };
 

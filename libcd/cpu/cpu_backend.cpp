@@ -78,8 +78,10 @@ class CpuBackend final : public Backend {
       const bool filter = options_.projection_filter;
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 1024), [&](const auto& range) {
         StaticTestCounters& local = counters.local();
-        for (std::size_t i = range.begin(); i != range.end(); ++i)
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          prefetch_pair_data(triangles, x, pairs_, i);
           hit_[i] = frame_triangles_intersect(triangles, x, axes_, pairs_[i], filter, local);
+        }
       });
       stats_.narrow.predicate_calls += axes_counters.calls;
       stats_.narrow.predicate_exact += axes_counters.exact;
