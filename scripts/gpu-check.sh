@@ -9,6 +9,8 @@
 #                  (default: this script's folder if it holds manifest.txt,
 #                  else ../.gpu-bundle from it)
 #   SANITIZER_TIMEOUT  seconds per compute-sanitizer run (default 600)
+#   SNAG_SANITIZERS    the compute-sanitizer tools to run (default "memcheck racecheck")
+#   SNAG_GPU_CHECK_BENCH  0: leave out the benchmarks (default 1)
 #
 # Steps: nvidia-smi; every GPU test executable with --gtest_output=json; each
 # under compute-sanitizer memcheck (with leak check) and racecheck when
@@ -111,7 +113,7 @@ while read -r kind name path; do
       case "$counts" in *" 0 skipped"*) ;; *) result=SKIP; [ "$gpu_listed" = 1 ] && result=FAIL ;; esac
       [ "$rc" -ne 0 ] && result=FAIL
       record "test $name" "$result" "$counts" $((SECONDS - start))
-      for tool in memcheck racecheck; do
+      for tool in ${SNAG_SANITIZERS:-memcheck racecheck}; do
         if [ -z "$sanitizer" ]; then
           record "$tool $name" SKIP "compute-sanitizer not found" 0
           continue
@@ -137,6 +139,10 @@ while read -r kind name path; do
       done
       ;;
     bench)
+      if [ "${SNAG_GPU_CHECK_BENCH:-1}" = 0 ]; then
+        record "bench $name" SKIP "SNAG_GPU_CHECK_BENCH=0" 0
+        continue
+      fi
       echo "== bench $name"
       start=$SECONDS
       "$binary" --benchmark_out="$logs/$name.json" --benchmark_out_format=json 2>&1 | tee "$logs/$name.log"

@@ -47,6 +47,7 @@ struct ScanOptions {
   std::string backend = "auto";
   unsigned threads = 0;
   double lambda = 1.2;
+  std::size_t device_memory = 0;  ///< --device-memory, bytes (0: what the GPU has free)
   std::string report;
   std::string events = "all";
   std::size_t max_events = 100000;
@@ -134,6 +135,7 @@ int scan(const snag::tools::CacheArguments& cache, const snag::tools::RuleArgume
   backend_settings.lambda = options.lambda;
   backend_settings.thickness = rules.max_thickness();
   backend_settings.threads = options.threads;
+  backend_settings.device_memory_bytes = options.device_memory;
 #if SNAG_HAVE_CGAL
   std::unique_ptr<snag::Certifier> certifier;
   if (options.precision == "certified") {
@@ -287,6 +289,11 @@ int main(int argc, char** argv) {
   app.add_option("-j,--threads", options.threads, "CPU threads (0 = all cores)");
   app.add_option("--lambda", options.lambda, "Cell-size coefficient of the CUDA back end's grid: cell = 3 x lambda x mean triangle radius (the CPU back end's box grid does not use it)")
       ->check(CLI::Range(1.0001, 100.0));
+  app.add_option("--device-memory", options.device_memory,
+                 "Most GPU memory the CUDA back end may use, e.g. 4G (default: what is free less 2 GiB);\n"
+                 "larger scenes run in chunks with the same events")
+      ->transform(CLI::AsSizeValue(false))
+      ->type_name("BYTES");
   app.add_option("-r,--report", options.report,
                  "Write the report (JSON Lines, man snag-report(5)) to FILE ('-' = standard output)");
   app.add_option("--events", options.events,

@@ -38,6 +38,7 @@
 #include "bench/gpu/write_ply.hpp"
 #include "io/open_cache.hpp"
 #include "libcd/cuda/cuda_backend.hpp"
+#include "libcd/cuda/cuda_broad_phase.cuh"
 #include "libcd/cuda/cuda_error.hpp"
 #include "libcd/cuda/device.hpp"
 #include "libcd/cuda/device_memory_tracker.hpp"
@@ -64,6 +65,7 @@ double median(std::vector<double> values) {
 struct Options {
   std::string json_path;
   std::string refined_dir;  ///< --write-refined: write the refined frames here and stop
+  bool memory_census = false;  ///< --memory-census: the broad phase's buffers on the refined cloth, and stop
   std::string data_dir = SNAG_SHARED_DATA_DIR;
   std::string samples_dir = std::string(SNAG_SOURCE_DIR) + "/samples";
   int runs = 20, warmup = 2, large_runs = 5, large_cpu_runs = 1;
@@ -249,6 +251,8 @@ Options parse(int argc, char** argv) {
     } else if (arg.rfind("--write-refined", 0) == 0) {
       options.refined_dir = value("--write-refined");
       if (options.refined_dir.empty()) throw std::runtime_error("--write-refined needs a directory");
+    } else if (arg == "--memory-census") {
+      options.memory_census = true;
     } else if (arg == "--no-large") {
       options.large = false;
     } else if (arg == "--no-cpu") {
@@ -256,7 +260,7 @@ Options parse(int argc, char** argv) {
     } else if (arg == "-h" || arg == "--help") {
       std::printf(
           "usage: snag-bench-gpu [--json FILE] [--runs N (20)] [--large-runs N (5)] [--large-cpu-runs N (1)] "
-          "[--no-large] [--no-cpu] [--write-refined DIR]\n"
+          "[--no-large] [--no-cpu] [--write-refined DIR] [--memory-census]\n"
           "environment: SNAG_SHARED_DATA_DIR (reference data), SNAG_SAMPLES_DIR (sample caches)\n");
       std::exit(0);
     } else {
@@ -287,6 +291,36 @@ int write_refined(const std::string& data_dir, const std::string& dir) {
   return 0;
 }
 
+// Where the CCD broad phase's device memory goes on the refined cloths (one
+// step each): its buffers by name, in one chunk and under a 3 GiB budget
+// whose chunks take at most 1 GiB, with the chunk count and time.
+int print_memory_census(const std::string& data_dir) {
+  const ClothStep cloth = read_cloth_ball(data_dir);
+  for (int levels : {1, 2}) {
+    const ClothStep refined = refine(cloth, levels, 1.0);
+    for (const std::size_t budget : {std::size_t{0}, std::size_t{3} << 30}) {
+      auto broad = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+      broad->build(refined.scene, BroadPhaseSettings{});
+      broad->set_memory_budget(budget, std::size_t{1} << 30);
+      std::vector<VertexFaceCandidate> vf;
+      std::vector<EdgeEdgeCandidate> ee;
+      for (int run = 0; run < 2; ++run) broad->detect_ccd(refined.x_t0, refined.x_t1, vf, ee);  // the second reuses the plan
+      std::size_t held = 0;
+      const auto census = broad->memory_census();
+      for (const auto& entry : census) held += entry.second;
+      std::printf("cloth_ball x%d, %zu triangles, %s: %zu chunks, %zu feature parts, %zu candidates, %.1f ms, "
+                  "%.1f MiB held, tracker peak %.1f MiB\n",
+                  1 << (2 * levels), refined.scene.triangle_count(),
+                  budget == 0 ? "no budget" : "3 GiB budget, 1 GiB chunks", broad->last_chunks(),
+                  broad->last_feature_parts(), vf.size() + ee.size(), 1e3 * broad->stats().seconds_total,
+                  held / 1048576.0, broad->stats().memory_bytes / 1048576.0);
+      for (const auto& [name, bytes] : census)
+        if (bytes >= (std::size_t{1} << 20)) std::printf("  %10.1f MiB  %s\n", bytes / 1048576.0, name.c_str());
+    }
+  }
+  return 0;
+}
+
 int run(int argc, char** argv) {
   const Options options = parse(argc, argv);
   if (!options.refined_dir.empty()) return write_refined(options.data_dir, options.refined_dir);
@@ -295,6 +329,7 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "snag-bench-gpu: no usable CUDA device: %s\n", device.why_not.c_str());
     return 2;
   }
+  if (options.memory_census) return print_memory_census(options.data_dir);
   json out;
   out["device"] = {{"name", device.name},
                    {"sm", std::to_string(device.sm_major) + "." + std::to_string(device.sm_minor)},

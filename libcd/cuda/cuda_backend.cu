@@ -21,6 +21,16 @@
 //  - events: built on the host from the same doubles with the same formulas
 //    (event_builder.hpp) and sorted with event_order: bit-identical to the
 //    CPU back end's.
+//  - device memory: everything the back end allocates (DeviceBuffer) stays
+//    within a budget: BackendSettings::device_memory_bytes, or what the
+//    device has free at bind() less a margin. The CCD detection (broad and
+//    narrow phase) and the static one never run on the device at the same
+//    time, so each gets what the budget leaves beside the other's buffers and
+//    the topology and frames; the broad phase turns that into chunks of
+//    candidates (cuda_broad_phase.cuh), the narrow phase into rounds. The
+//    hits of several chunks are put back in candidate order, so the events
+//    are those of one chunk. When the other detection holds more than half
+//    of what the topology and frames leave, it gives its buffers back first.
 //  - overlap: the scan asks for frame f's intersections, then for the
 //    collisions of f -> f + 1, then for frame f + 1's intersections. Once
 //    intersections have been asked for, collisions() starts the static
@@ -52,6 +62,35 @@
 namespace snag {
 
 namespace {
+
+/// What the budget leaves out by default: the CUDA context, the kernels'
+/// local memory (their stack frames, reserved for every resident thread) and
+/// the memory pool's slack, none of which DeviceBuffer counts.
+constexpr std::size_t kDefaultMarginBytes = std::size_t{2} << 30;
+/// The most device memory a detection's chunk buffers take by default, when
+/// the budget is larger: chunks cost little (each test still runs once), and
+/// a large scene then needs a few GB rather than what is free.
+constexpr std::size_t kChunkRoomCap = std::size_t{1} << 30;
+/// The narrow phase's share of a detection's budget, at most this much.
+constexpr std::size_t kNarrowRoomCap = std::size_t{512} << 20;
+
+/// Orders hits gathered from several chunks as one call over all candidates
+/// would: by candidate (candidates are unique and sorted within a chunk).
+template <class Candidate>
+void sort_hits_by_candidate(std::vector<CcdHit>& hits, std::vector<Candidate>& candidates) {
+  std::vector<std::uint32_t> order(hits.size());
+  for (std::uint32_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return candidates[a] < candidates[b]; });
+  std::vector<CcdHit> sorted_hits(hits.size());
+  std::vector<Candidate> sorted_candidates(candidates.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    sorted_hits[k] = hits[order[k]];
+    sorted_candidates[k] = candidates[order[k]];
+  }
+  hits.swap(sorted_hits);
+  candidates.swap(sorted_candidates);
+}
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -140,6 +179,9 @@ class CudaBackend final : public Backend {
                                2 * scene.vertex_count() * sizeof(Vec3);
     std::size_t free_bytes = 0, total_bytes = 0;
     SNAG_CUDA_CHECK(cudaMemGetInfo(&free_bytes, &total_bytes));
+    budget_ = settings.device_memory_bytes > 0 ? settings.device_memory_bytes
+              : free_bytes > kDefaultMarginBytes ? free_bytes - kDefaultMarginBytes
+                                                 : free_bytes / 2;
     if (needed > free_bytes) {
       throw CudaError("the scene does not fit in GPU memory: its topology and two frames need " +
                           std::to_string(needed) + " bytes, " + std::to_string(free_bytes) + " of " +
@@ -157,6 +199,11 @@ class CudaBackend final : public Backend {
     }
     SNAG_CUDA_CHECK(cudaStreamSynchronize(compute_.get()));
     SNAG_CUDA_CHECK(cudaStreamSynchronize(copy_.get()));
+    const std::size_t bound = bound_bytes();
+    if (bound >= budget_)
+      throw UsageError("the device memory limit of " + std::to_string(budget_) +
+                       " bytes is too small for this scene: its topology and two frames take " +
+                       std::to_string(bound) + " bytes; raise the limit (snag-scan --device-memory)");
   }
 
   void collisions(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) override {
@@ -172,10 +219,8 @@ class CudaBackend final : public Backend {
     wait_for(slot_t1);
     const Vec3* d_x_t0 = slots_[slot_t0].device.data();
     const Vec3* d_x_t1 = slots_[slot_t1].device.data();
-    const DeviceCandidates candidates = ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get());
-    stats_.ccd_broad = ccd_broad_->stats();
+    join_static_ahead();  // one detection on the device at a time (see the file comment)
 
-    const auto start = std::chrono::steady_clock::now();
     const std::size_t first = events.size();
     // Host vectors are members, cleared and refilled: their pages stay mapped.
     vf_answers_.clear();
@@ -183,14 +228,29 @@ class CudaBackend final : public Backend {
     vf_hits_.clear();
     ee_hits_.clear();
     narrow_.reset_timings();
-    narrow_.vertex_face(d_x_t0, d_x_t1, triangles_.data(), candidates.vf, candidates.vf_count, settings_.ccd,
-                        CcdPasses::kScreenOnly, vf_answers_, &vf_hits_.candidates);
-    narrow_.edge_edge(d_x_t0, d_x_t1, edges_.data(), candidates.ee, candidates.ee_count, settings_.ccd,
-                      CcdPasses::kScreenOnly, ee_answers_, &ee_hits_.candidates);
+    std::size_t vf_count = 0, ee_count = 0;
+    double narrow_seconds = 0;
+    use_budget(*ccd_broad_, narrow_, CudaNarrowPhase::kCcdBytesPerCandidate, *static_broad_, static_narrow_);
+    ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), [&](const DeviceCandidates& chunk) {
+      const auto narrow_start = std::chrono::steady_clock::now();
+      narrow_.vertex_face(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
+                          CcdPasses::kScreenOnly, vf_answers_, &vf_hits_.candidates);
+      narrow_.edge_edge(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
+                        CcdPasses::kScreenOnly, ee_answers_, &ee_hits_.candidates);
+      vf_count += chunk.vf_count;
+      ee_count += chunk.ee_count;
+      narrow_seconds += seconds_since(narrow_start);
+    });
+    stats_.ccd_broad = ccd_broad_->stats();
+    if (ccd_broad_->last_feature_parts() > 1) {
+      sort_hits_by_candidate(vf_answers_, vf_hits_.candidates);
+      sort_hits_by_candidate(ee_answers_, ee_hits_.candidates);
+    }
     const NarrowPhaseTimings& device = narrow_.timings();
     stats_.narrow.seconds_ccd_device = 1e-3 * (device.screen_ms + device.search_ms + device.compact_ms);
     // The device is free: the next frame's intersections, while the host works.
     if (static_seen_ && !static_ahead_.valid()) start_static_ahead(slot_t1);
+    const auto host_start = std::chrono::steady_clock::now();
     for (const CcdHit& hit : vf_answers_) vf_hits_.results.push_back(hit.result);
     for (const CcdHit& hit : ee_answers_) ee_hits_.results.push_back(hit.result);
     // What the screen left undecided: the whole test, on the CPU.
@@ -200,14 +260,15 @@ class CudaBackend final : public Backend {
     });
     const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] {
-      append_collision_events(*scene_, x_t0, x_t1, candidates.vf_count, vf_hits_, settings_.certifier,
-                              settings_.thickness, stats_.narrow, events);
-      append_collision_events(*scene_, x_t0, x_t1, candidates.ee_count, ee_hits_, settings_.certifier,
-                              settings_.thickness, stats_.narrow, events);
+      append_collision_events(*scene_, x_t0, x_t1, vf_count, vf_hits_, settings_.certifier, settings_.thickness,
+                              stats_.narrow, events);
+      append_collision_events(*scene_, x_t0, x_t1, ee_count, ee_hits_, settings_.certifier, settings_.thickness,
+                              stats_.narrow, events);
     });
     sort_events_from(events, first);
     stats_.narrow.seconds_ccd_events = seconds_since(events_start) - stats_.narrow.seconds_certify;
-    stats_.narrow.seconds_ccd = seconds_since(start) - stats_.narrow.seconds_certify;
+    // The narrow phase's rounds ran inside the broad phase's chunks.
+    stats_.narrow.seconds_ccd = narrow_seconds + seconds_since(host_start) - stats_.narrow.seconds_certify;
   }
 
   void intersections(const std::vector<Vec3>& x, std::vector<Event>& events) override {
@@ -256,18 +317,58 @@ class CudaBackend final : public Backend {
   void find_static(int slot) {
     StaticFound& found = static_found_;
     const Vec3* d_x = slots_[slot].device.data();
-    const DeviceCandidates candidates = static_broad_->detect_static_on_device(d_x, static_stream_.get());
-    found.broad = static_broad_->stats();
-    const auto start = std::chrono::steady_clock::now();
     found.hits.clear();
     found.pairs.clear();
     found.counts = TrianglePairCounts{};
+    found.tests = 0;
+    found.narrow_seconds = 0;
     static_narrow_.reset_timings();
-    static_narrow_.triangle_pairs(d_x, triangles_.data(), candidates.pairs, candidates.pair_count, found.hits,
-                                  found.counts, &found.pairs);
+    use_budget(*static_broad_, static_narrow_, CudaNarrowPhase::kStaticBytesPerPair, *ccd_broad_, narrow_);
+    static_broad_->detect_static_on_device(d_x, static_stream_.get(), [&](const DeviceCandidates& chunk) {
+      const auto start = std::chrono::steady_clock::now();
+      const std::size_t before = found.hits.size();
+      static_narrow_.triangle_pairs(d_x, triangles_.data(), chunk.pairs, chunk.pair_count, found.hits, found.counts,
+                                    &found.pairs);
+      // Hits index the chunk's pairs; chunks follow one another.
+      for (std::size_t k = before; k < found.hits.size(); ++k) found.hits[k] += static_cast<std::uint32_t>(found.tests);
+      found.tests += chunk.pair_count;
+      found.narrow_seconds += seconds_since(start);
+    });
+    found.broad = static_broad_->stats();
     found.device_seconds = 1e-3 * (static_narrow_.timings().static_ms + static_narrow_.timings().compact_ms);
-    found.tests = candidates.pair_count;
-    found.narrow_seconds = seconds_since(start);
+  }
+
+  // Device bytes of the topology and the frames (the back end's own buffers).
+  std::size_t bound_bytes() const {
+    return triangles_.capacity_bytes() + edges_.capacity_bytes() + slots_[0].device.capacity_bytes() +
+           slots_[1].device.capacity_bytes();
+  }
+
+  // Gives one detection (broad phase `broad`, narrow phase `narrow`) what
+  // the budget leaves beside the other's buffers (idle: detections never
+  // overlap), the topology and the frames: the narrow phase a fifth of it (at
+  // most kNarrowRoomCap) in rounds of narrow_bytes_per_candidate, the broad
+  // phase the rest (its chunks at most kChunkRoomCap). The other detection
+  // first gives its buffers back when it holds more than half.
+  void use_budget(CudaBroadPhase& broad, CudaNarrowPhase& narrow, std::size_t narrow_bytes_per_candidate,
+                  CudaBroadPhase& other_broad, CudaNarrowPhase& other_narrow) {
+    const std::size_t available = budget_ - bound_bytes();  // bind() checked it is positive
+    if (other_broad.held_bytes() + other_narrow.held_bytes() > available / 2) {
+      other_broad.release_buffers();
+      other_narrow.release_buffers();
+    }
+    const std::size_t taken = other_broad.held_bytes() + other_narrow.held_bytes();
+    if (taken >= available)
+      throw UsageError("the device memory limit of " + std::to_string(budget_) +
+                       " bytes is too small for this scene: " + std::to_string(bound_bytes() + taken) +
+                       " bytes are taken before a detection starts; raise the limit (snag-scan --device-memory)");
+    const std::size_t share = available - taken;
+    const std::size_t narrow_room = std::min(kNarrowRoomCap, share / 5);
+    const std::size_t rounds = std::min(CudaNarrowPhase::kDefaultChunkSize,
+                                        std::max<std::size_t>(1, narrow_room / narrow_bytes_per_candidate));
+    narrow.set_chunk_size(rounds);
+    if (narrow.held_bytes() > narrow_room) narrow.release_buffers();
+    broad.set_memory_budget(share - narrow_room, kChunkRoomCap);
   }
 
   // Starts find_static(slot) on a thread of its own, on this thread's device.
@@ -355,6 +456,7 @@ class CudaBackend final : public Backend {
   std::future<void> static_ahead_;    ///< find_static() running ahead, when valid
   int static_ahead_slot_ = -1;
   PipelineStats stats_;
+  std::size_t budget_ = 0;  ///< device bytes the back end may hold
 };
 
 }  // namespace

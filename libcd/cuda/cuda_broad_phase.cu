@@ -2,6 +2,8 @@
 // CUDA events, counted as the CPU's VirtualSubdivisionGrid counts.
 #include "libcd/cuda/cuda_broad_phase.cuh"
 
+#include <algorithm>
+#include <chrono>
 #include <string>
 
 #include "libcd/core/error.hpp"
@@ -46,6 +48,16 @@ double seconds_between(const CudaEvent& from, const CudaEvent& to) {
   return static_cast<double>(CudaEvent::elapsed_ms(from, to)) / 1000.0;
 }
 
+/// Appends `count` device items to `host` (waits for the stream).
+template <class T>
+void append_download(const T* items, std::size_t count, std::vector<T>& host, cudaStream_t stream) {
+  if (count == 0) return;
+  const std::size_t at = host.size();
+  host.resize(at + count);
+  SNAG_CUDA_CHECK(cudaMemcpyAsync(host.data() + at, items, count * sizeof(T), cudaMemcpyDeviceToHost, stream));
+  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+}
+
 }  // namespace
 
 CudaBroadPhase::CudaBroadPhase(bool subdivide) : subdivide_(subdivide) {}
@@ -62,6 +74,7 @@ void CudaBroadPhase::build(const Scene& scene, const BroadPhaseSettings& setting
   scene_ = &scene;
   settings_ = settings;
   buffers_.reset();
+  plan_ = std::make_unique<PairChunkPlan>();
   use_stream(stream_);
 }
 
@@ -81,16 +94,19 @@ void CudaBroadPhase::use_stream(cudaStream_t stream) {
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
 }
 
-void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream) {
+void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
+                                              bool with_features,
+                                              const std::function<void(const TrianglePair*, std::size_t)>& visit) {
   const Scene& scene = *scene_;
   CudaBroadPhaseBuffers& b = *buffers_;
   stats_ = BroadPhaseStats{};
   const std::size_t triangle_count = scene.triangle_count(), edge_count = scene.edges().size(),
                     vertex_count = scene.vertex_count();
-  CudaEvent start, bounded, subdivided, registered, paired;
+  CudaEvent start, bounded, subdivided, registered;
   start.record(stream);
 
   // 1. Bounding volumes; 2. cell size (exact sum) and grid.
+  DeviceMemoryTracker::set_stage("broad phase: bounds");
   Vec3 scene_lo, scene_hi;
   double max_radius = 0;
   compute_primitive_bounds_on_device(b.topology.triangles.data(), triangle_count, b.topology.edges.data(),
@@ -112,6 +128,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   for (int a = 0; a < 3; ++a) stats_.grid_dims[a] = grid.dims[a];
 
   // 3. Virtual subdivision.
+  DeviceMemoryTracker::set_stage("broad phase: subdivision");
   std::vector<SubdivisionLevelCounts> levels;
   const std::size_t leaf_count = subdivide_virtually_on_device(
       b.topology.triangles.data(), triangle_count, d_x_t0, d_x_t1, grid, settings_.thickness,
@@ -131,6 +148,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   subdivided.record(stream);
 
   // 4. Registration, one sort, one scan.
+  DeviceMemoryTracker::set_stage("broad phase: registration");
   RegistrationCounts reg;
   register_leaves_on_device(b.subdivision.leaves.data(), leaf_count, grid, b.cells, stream, reg);
   stats_.registrations = reg.registrations;
@@ -139,59 +157,121 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   stats_.duplicate_registrations_removed = reg.duplicates_removed;
   stats_.cells_used = b.cells.cells;
   registered.record(stream);
-
-  // 5. One test per thread; 6. sort + unique of root pairs.
-  enumerate_pairs_on_device(b.subdivision.leaves.data(), b.cells, grid, b.bounds.triangles.data(), triangle_count,
-                            settings_.count_culled_duplicates, b.pairs, stream, stats_);
-  paired.record(stream);
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
   stats_.seconds_bounds = seconds_between(start, bounded);
   stats_.seconds_subdivision = seconds_between(bounded, subdivided);
   stats_.seconds_registration = seconds_between(subdivided, registered);
-  stats_.seconds_pairs = seconds_between(registered, paired);
-  stats_.seconds_total = seconds_between(start, paired);
+
+  // The chunks' room: what the budget leaves beside the buffers the chunks do
+  // not bound (the registered leaves are sized just below, with the tests).
+  std::size_t key_room = ~std::size_t{0};
+  candidate_room_ = ~std::size_t{0};
+  if (budget_ > 0) {
+    const std::size_t fixed = held_bytes() - chunk_bytes() +
+                              b.cells.leaves.size() * (sizeof(RegisteredLeaf) + 2 * sizeof(std::uint64_t) +
+                                                       2 * sizeof(std::uint32_t)) +
+                              (b.cells.cells + 1) * 3 * sizeof(std::uint64_t) +
+                              (std::size_t{4} << 20);  // counters, histogram, sort scratch
+    if (fixed >= budget_)
+      throw UsageError("the device memory limit is too small for this scene: the broad phase holds " +
+                       std::to_string(fixed) + " bytes before its pair tests, its share of the limit is " +
+                       std::to_string(budget_) + " bytes; raise the limit (snag-scan --device-memory)");
+    const std::size_t room = std::min(budget_ - fixed, chunk_room_cap_);
+    if (with_features) {
+      // 40% for the tests' keys and the pairs' feature counts, 60% for the candidates.
+      key_room = room / 10 * 4 / (kPairChunkBytesPerTest + kFeatureBytesPerPair);
+      candidate_room_ = room / 10 * 6 / (2 * kFeatureBytesPerCandidate);  // vf and ee grow apart
+    } else {
+      key_room = room / kPairChunkBytesPerTest;
+    }
+  }
+  if (fixed_key_room_ > 0) key_room = fixed_key_room_;
+  if (fixed_candidate_room_ > 0) candidate_room_ = fixed_candidate_room_;
+  plan_->key_room = key_room;
+  // Buffers a larger room of an earlier call left are given back.
+  DeviceFeatures& f = b.features;
+  for (DeviceBuffer<std::uint64_t>* per_pair : {&f.vf_count, &f.ee_count, &f.vf_offset, &f.ee_offset})
+    if (per_pair->capacity() > 0 && per_pair->capacity() - 1 > key_room) per_pair->release();  // n + 1 for n pairs
+  for (DeviceBuffer<std::uint64_t>* keys : {&f.vf_keys, &f.ee_keys, &f.vf_sorted, &f.ee_sorted})
+    if (keys->capacity() > candidate_room_) keys->release();
+  if (f.vf.capacity() > candidate_room_) f.vf.release();
+  if (f.ee.capacity() > candidate_room_) f.ee.release();
+
+  // 5. One test per thread; 6. sort + unique of root pairs, chunk by chunk.
+  DeviceMemoryTracker::set_stage("broad phase: pairs");
+  last_chunks_ = 0;
+  enumerate_pairs_on_device(b.subdivision.leaves.data(), b.cells, grid, b.bounds.triangles.data(), triangle_count,
+                            settings_.count_culled_duplicates, *plan_, b.pairs, stream, stats_,
+                            [&](const TrianglePair* pairs, std::size_t count) {
+                              ++last_chunks_;
+                              visit(pairs, count);
+                              DeviceMemoryTracker::set_stage("broad phase: pairs");
+                            });
 }
 
-DeviceCandidates CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream) {
+void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
+                                          const CandidateVisitor& visit) {
   if (scene_ == nullptr) throw UsageError("broad phase: build() must be called before detection");
   use_stream(stream);
   DeviceMemoryTracker::instance().reset_peak();
-  CudaEvent start, done;
-  start.record(stream);
-  triangle_pairs_on_device(d_x_t0, d_x_t1, stream);
+  const auto start = std::chrono::steady_clock::now();
+  double visit_seconds = 0;
   CudaBroadPhaseBuffers& b = *buffers_;
-  CudaEvent features_start;
-  features_start.record(stream);
   FeatureCounts counts;
-  representative_feature_pairs_on_device(b.topology, b.bounds.triangles.data(), b.bounds.edges.data(),
-                                         b.bounds.vertices.data(), scene_->vertex_count(), scene_->edges().size(),
-                                         b.pairs.pairs.data(), b.pairs.pair_count, b.features, stream, counts);
-  done.record(stream);
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+  double feature_seconds = 0;
+  last_parts_ = 0;
+  triangle_pairs_on_device(d_x_t0, d_x_t1, stream, true, [&](const TrianglePair* pairs, std::size_t pair_count) {
+    DeviceMemoryTracker::set_stage("broad phase: features");
+    CudaEvent features_start, features_done;
+    features_start.record(stream);
+    representative_feature_pairs_on_device(
+        b.topology, b.bounds.triangles.data(), b.bounds.edges.data(), b.bounds.vertices.data(),
+        scene_->vertex_count(), scene_->edges().size(), pairs, pair_count, candidate_room_, b.features, stream,
+        counts,
+        [&](const VertexFaceCandidate* vf, std::size_t vf_count, const EdgeEdgeCandidate* ee, std::size_t ee_count) {
+          features_done.record(stream);
+          SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+          feature_seconds += seconds_between(features_start, features_done);
+          ++last_parts_;
+          const auto visit_start = std::chrono::steady_clock::now();
+          visit(DeviceCandidates{vf, vf_count, ee, ee_count, pairs, pair_count});
+          visit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - visit_start).count();
+          DeviceMemoryTracker::set_stage("broad phase: features");
+          features_start.record(stream);
+        });
+  });
+  DeviceMemoryTracker::set_stage("other");
   stats_.vf_before_culling = counts.vf_before;
   stats_.vf_after_culling = counts.vf_after;
   stats_.ee_before_culling = counts.ee_before;
   stats_.ee_after_culling = counts.ee_after;
-  stats_.candidates = b.features.vf_size + b.features.ee_size;
-  stats_.seconds_features = seconds_between(features_start, done);
-  stats_.seconds_total = seconds_between(start, done);
+  stats_.candidates = counts.vf_after + counts.ee_after;
+  stats_.seconds_features = feature_seconds;
+  stats_.seconds_total =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - visit_seconds;
   stats_.memory_bytes = DeviceMemoryTracker::instance().peak_bytes();
-  return {b.features.vf.data(), b.features.vf_size, b.features.ee.data(), b.features.ee_size, b.pairs.pairs.data(),
-          b.pairs.pair_count};
 }
 
-DeviceCandidates CudaBroadPhase::detect_static_on_device(const Vec3* d_x, cudaStream_t stream) {
+void CudaBroadPhase::detect_static_on_device(const Vec3* d_x, cudaStream_t stream, const CandidateVisitor& visit) {
   if (scene_ == nullptr) throw UsageError("broad phase: build() must be called before detection");
   use_stream(stream);
   DeviceMemoryTracker::instance().reset_peak();
-  triangle_pairs_on_device(d_x, d_x, stream);
-  CudaBroadPhaseBuffers& b = *buffers_;
-  stats_.candidates = b.pairs.pair_count;
+  const auto start = std::chrono::steady_clock::now();
+  double visit_seconds = 0;
+  last_parts_ = 0;
+  triangle_pairs_on_device(d_x, d_x, stream, false, [&](const TrianglePair* pairs, std::size_t pair_count) {
+    const auto visit_start = std::chrono::steady_clock::now();
+    DeviceCandidates chunk;
+    chunk.pairs = pairs;
+    chunk.pair_count = pair_count;
+    visit(chunk);
+    visit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - visit_start).count();
+  });
+  DeviceMemoryTracker::set_stage("other");
+  stats_.candidates = stats_.triangle_pairs;
+  stats_.seconds_total =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - visit_seconds;
   stats_.memory_bytes = DeviceMemoryTracker::instance().peak_bytes();
-  DeviceCandidates out;
-  out.pairs = b.pairs.pairs.data();
-  out.pair_count = b.pairs.pair_count;
-  return out;
 }
 
 void CudaBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
@@ -201,28 +281,109 @@ void CudaBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vector
   use_stream(stream_);
   buffers_->x_t0.upload(x_t0);
   buffers_->x_t1.upload(x_t1);
-  const DeviceCandidates out = detect_ccd_on_device(buffers_->x_t0.data(), buffers_->x_t1.data(), stream_);
-  vf.resize(out.vf_count);
-  ee.resize(out.ee_count);
-  if (out.vf_count > 0)
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(vf.data(), out.vf, out.vf_count * sizeof(VertexFaceCandidate),
-                                    cudaMemcpyDeviceToHost, stream_));
-  if (out.ee_count > 0)
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(ee.data(), out.ee, out.ee_count * sizeof(EdgeEdgeCandidate),
-                                    cudaMemcpyDeviceToHost, stream_));
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
+  vf.clear();
+  ee.clear();
+  detect_ccd_on_device(buffers_->x_t0.data(), buffers_->x_t1.data(), stream_, [&](const DeviceCandidates& chunk) {
+    append_download(chunk.vf, chunk.vf_count, vf, stream_);
+    append_download(chunk.ee, chunk.ee_count, ee, stream_);
+  });
+  // Chunks are sorted each; more than one part: the whole sorted as the CPU's.
+  if (last_parts_ > 1) {
+    std::sort(vf.begin(), vf.end());
+    std::sort(ee.begin(), ee.end());
+  }
 }
 
 void CudaBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) {
   check_positions(scene_, x.size(), "x");
   use_stream(stream_);
   buffers_->x_t0.upload(x);
-  const DeviceCandidates out = detect_static_on_device(buffers_->x_t0.data(), stream_);
-  pairs.resize(out.pair_count);
-  if (out.pair_count > 0)
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(pairs.data(), out.pairs, out.pair_count * sizeof(TrianglePair),
-                                    cudaMemcpyDeviceToHost, stream_));
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
+  pairs.clear();
+  detect_static_on_device(buffers_->x_t0.data(), stream_, [&](const DeviceCandidates& chunk) {
+    append_download(chunk.pairs, chunk.pair_count, pairs, stream_);  // chunks ascend
+  });
+}
+
+std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census() const {
+  std::vector<std::pair<std::string, std::size_t>> census;
+  if (buffers_ == nullptr) return census;
+  const CudaBroadPhaseBuffers& b = *buffers_;
+  auto add = [&](const char* name, std::size_t bytes) { census.emplace_back(name, bytes); };
+  add("topology", b.topology.triangles.capacity_bytes() + b.topology.edges.capacity_bytes() +
+                      b.topology.masks.capacity_bytes() + b.topology.edge_ids.capacity_bytes());
+  add("uploaded positions", b.x_t0.capacity_bytes() + b.x_t1.capacity_bytes());
+  add("bounds: triangle DOPs", b.bounds.triangles.capacity_bytes());
+  add("bounds: edge DOPs", b.bounds.edges.capacity_bytes());
+  add("bounds: vertex DOPs", b.bounds.vertices.capacity_bytes());
+  add("bounds: radii, scratch", b.bounds.triangle_radii.capacity_bytes() + b.bounds.temp.capacity_bytes() +
+                                    b.bounds.box.capacity_bytes() + b.bounds.max_radius.capacity_bytes() +
+                                    b.bounds.radius_sum.capacity_bytes());
+  const DeviceSubdivision& s = b.subdivision;
+  add("subdivision: leaves", s.leaves.capacity_bytes() + s.spare.capacity_bytes());
+  add("subdivision: level lists", s.items.capacity_bytes() + s.next.capacity_bytes());
+  add("subdivision: decisions, counts, scratch",
+      s.decision.capacity_bytes() + s.home.capacity_bytes() + s.child_count.capacity_bytes() +
+          s.leaf_count.capacity_bytes() + s.child_offset.capacity_bytes() + s.leaf_offset.capacity_bytes() +
+          s.counters.capacity_bytes() + s.temp.capacity_bytes());
+  const DeviceCellLists& c = b.cells;
+  add("registration: cell lists", c.cell_ids.capacity_bytes() + c.first.capacity_bytes() + c.leaves.capacity_bytes());
+  add("registration: sort keys and values", c.keys.capacity_bytes() + c.keys_sorted.capacity_bytes() +
+                                                c.kept_keys.capacity_bytes() + c.values.capacity_bytes() +
+                                                c.values_sorted.capacity_bytes());
+  add("registration: counts, flags, scratch",
+      c.block_count.capacity_bytes() + c.offset.capacity_bytes() + c.run_length.capacity_bytes() +
+          c.keep.capacity_bytes() + c.selected.capacity_bytes() + c.temp.capacity_bytes());
+  const DevicePairs& p = b.pairs;
+  add("pairs: registered leaves", p.registered.capacity_bytes());
+  add("pairs: registered leaves' sort", p.order_keys.capacity_bytes() + p.order_keys_spare.capacity_bytes() +
+                                           p.order_ids.capacity_bytes() + p.order_ids_spare.capacity_bytes());
+  add("pairs: cell tests", p.cell_tests.capacity_bytes() + p.first_test.capacity_bytes() +
+                               p.row_first.capacity_bytes());
+  add("pairs: kept test keys (chunk)", p.kept.capacity_bytes());
+  add("pairs: sorted keys (chunk)", p.sorted.capacity_bytes());
+  add("pairs: culled test keys", p.culled.capacity_bytes());
+  add("pairs: unique pairs (chunk)", p.pairs.capacity_bytes());
+  add("pairs: counters, histogram, scratch",
+      p.counters.capacity_bytes() + p.histogram.capacity_bytes() + p.temp.capacity_bytes());
+  const DeviceFeatures& f = b.features;
+  add("features: counts and offsets (chunk)", f.vf_count.capacity_bytes() + f.ee_count.capacity_bytes() +
+                                                  f.vf_offset.capacity_bytes() + f.ee_offset.capacity_bytes());
+  add("features: keys (part)", f.vf_keys.capacity_bytes() + f.ee_keys.capacity_bytes() +
+                                   f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes());
+  add("features: candidates (part)", f.vf.capacity_bytes() + f.ee.capacity_bytes());
+  add("features: scratch", f.counters.capacity_bytes() + f.bounds.capacity_bytes() + f.temp.capacity_bytes());
+  std::sort(census.begin(), census.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
+  return census;
+}
+
+std::size_t CudaBroadPhase::held_bytes() const {
+  std::size_t total = 0;
+  for (const auto& entry : memory_census()) total += entry.second;
+  return total;
+}
+
+std::size_t CudaBroadPhase::chunk_bytes() const {
+  const DevicePairs& p = buffers_->pairs;
+  const DeviceFeatures& f = buffers_->features;
+  return p.kept.capacity_bytes() + p.sorted.capacity_bytes() + p.pairs.capacity_bytes() +
+         p.registered.capacity_bytes() + p.order_keys.capacity_bytes() + p.order_keys_spare.capacity_bytes() +
+         p.order_ids.capacity_bytes() + p.order_ids_spare.capacity_bytes() + p.cell_tests.capacity_bytes() +
+         p.first_test.capacity_bytes() + p.row_first.capacity_bytes() +
+         f.vf_count.capacity_bytes() + f.ee_count.capacity_bytes() + f.vf_offset.capacity_bytes() +
+         f.ee_offset.capacity_bytes() + f.vf_keys.capacity_bytes() + f.ee_keys.capacity_bytes() +
+         f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes() + f.vf.capacity_bytes() + f.ee.capacity_bytes();
+}
+
+void CudaBroadPhase::release_buffers() {
+  if (buffers_ == nullptr) return;
+  CudaBroadPhaseBuffers& b = *buffers_;
+  b.x_t0.release();
+  b.x_t1.release();
+  b.bounds = DevicePrimitiveBounds(stream_);
+  b.subdivision = DeviceSubdivision(stream_);
+  b.cells = DeviceCellLists(stream_);
+  b.pairs = DevicePairs(stream_);
+  b.features = DeviceFeatures(stream_);
 }
 
 std::unique_ptr<BroadPhase> make_cuda_broad_phase(BroadPhaseMethod method) { return CudaBroadPhase::create(method); }

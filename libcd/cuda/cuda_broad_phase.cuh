@@ -16,12 +16,21 @@
 // Device memory is sized to the scene and kept between calls (buffers only
 // grow); a count that overflows a preallocated buffer makes that stage grow it
 // and run again. The stream waits at each stage for the sizes of the next.
+// With a memory budget (set_memory_budget), the pair tests and the feature
+// stage, whose buffers grow with the candidates, run in chunks of root
+// triangles and parts of pairs sized to what the budget leaves after the
+// other stages (pair_enumeration.cuh, representative_triangles.cuh), and the
+// candidates are handed to the caller chunk by chunk: the same candidates,
+// in ascending order within each chunk.
 #pragma once
 
 #include <cuda_runtime_api.h>
 
 #include <cstddef>
+#include <functional>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "libcd/broad_phase/broad_phase.hpp"
@@ -40,7 +49,11 @@ struct DeviceCandidates {
   std::size_t pair_count = 0;
 };
 
+/// Receives the candidates of one chunk; the device arrays are valid until it returns.
+using CandidateVisitor = std::function<void(const DeviceCandidates&)>;
+
 struct CudaBroadPhaseBuffers;  // device buffers, defined in cuda_broad_phase.cu
+struct PairChunkPlan;          // pair_enumeration.cuh
 
 class CudaBroadPhase final : public BroadPhase {
  public:
@@ -60,18 +73,49 @@ class CudaBroadPhase final : public BroadPhase {
   void detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) override;
   const BroadPhaseStats& stats() const override { return stats_; }
 
-  /// Continuous candidates for positions already on the device.
+  /// Continuous candidates for positions already on the device, handed to
+  /// `visit` chunk by chunk (DeviceCandidates::vf and ee; one chunk when the
+  /// budget allows): every candidate once, each chunk's sorted.
   /// @param d_x_t0, d_x_t1  #V device positions at the start and end of the step
-  /// @param stream          stream to run on; the call returns when the
-  ///                        results are complete on the device
-  /// Throws UsageError when build() was not called, CudaError.
-  DeviceCandidates detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream);
-  /// Static triangle pairs for #V device positions d_x (DeviceCandidates::pairs only).
-  DeviceCandidates detect_static_on_device(const Vec3* d_x, cudaStream_t stream);
+  /// @param stream          stream to run on (visit may queue work on it)
+  /// Throws UsageError when build() was not called or the budget is too
+  /// small for one chunk, CudaError.
+  void detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, const CandidateVisitor& visit);
+  /// Static triangle pairs for #V device positions d_x (DeviceCandidates::pairs
+  /// only), chunk by chunk in ascending order.
+  void detect_static_on_device(const Vec3* d_x, cudaStream_t stream, const CandidateVisitor& visit);
+
+  /// The most device bytes this broad phase's buffers may hold during a
+  /// detection (0: no bound); the chunks are sized from what the stages
+  /// before the pair tests leave of it, at most chunk_room_cap bytes.
+  void set_memory_budget(std::size_t bytes, std::size_t chunk_room_cap = ~std::size_t{0}) {
+    budget_ = bytes;
+    chunk_room_cap_ = chunk_room_cap;
+  }
+  /// Fixes the chunks' rooms instead (kept tests per chunk, candidates per
+  /// part of the feature stage; 0 = from the budget), to test chunking.
+  void set_chunk_rooms(std::size_t key_room, std::size_t candidate_room) {
+    fixed_key_room_ = key_room;
+    fixed_candidate_room_ = candidate_room;
+  }
+  /// Device bytes its buffers hold now.
+  std::size_t held_bytes() const;
+  /// Its buffers by name with the bytes each holds, largest first (for logs).
+  std::vector<std::pair<std::string, std::size_t>> memory_census() const;
+  /// Gives back every buffer but the topology (in stream order).
+  void release_buffers();
+  /// Chunks of root triangles the last detection ran in, and parts of pairs of its feature stage.
+  std::size_t last_chunks() const { return last_chunks_; }
+  std::size_t last_feature_parts() const { return last_parts_; }
 
  private:
   void use_stream(cudaStream_t stream);
-  void triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream);
+  /// Bounds, subdivision, registration, then the pair tests chunk by chunk;
+  /// with_features: the chunk's room is shared with the feature stage.
+  void triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, bool with_features,
+                                const std::function<void(const TrianglePair*, std::size_t)>& visit);
+  /// Bytes of the buffers whose size the chunks bound.
+  std::size_t chunk_bytes() const;
 
   bool subdivide_;
   const Scene* scene_ = nullptr;
@@ -79,6 +123,11 @@ class CudaBroadPhase final : public BroadPhase {
   BroadPhaseStats stats_;
   cudaStream_t stream_ = nullptr;
   std::unique_ptr<CudaBroadPhaseBuffers> buffers_;
+  std::unique_ptr<PairChunkPlan> plan_;
+  std::size_t budget_ = 0, chunk_room_cap_ = ~std::size_t{0};
+  std::size_t fixed_key_room_ = 0, fixed_candidate_room_ = 0;
+  std::size_t candidate_room_ = ~std::size_t{0};
+  std::size_t last_chunks_ = 0, last_parts_ = 0;
 };
 
 }  // namespace snag

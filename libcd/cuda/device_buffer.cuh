@@ -52,6 +52,8 @@ class DeviceBuffer {
   std::size_t size_bytes() const { return size_ * sizeof(T); }
   /// Elements the current allocation can hold without reallocating.
   std::size_t capacity() const { return capacity_; }
+  /// Device bytes the buffer holds (its capacity).
+  std::size_t capacity_bytes() const { return capacity_ * sizeof(T); }
   cudaStream_t stream() const { return stream_; }
 
   /// Sets the size to `count`, discarding the contents (nothing is copied).

@@ -9,6 +9,10 @@
 namespace snag {
 
 /// Process-wide counter of device bytes held by DeviceBuffer objects. Thread-safe.
+/// With the environment variable SNAG_DEVICE_MEMORY_LOG set, every allocation
+/// of 64 MiB or more is printed on standard error with the stage of the
+/// calling thread (set_stage) and the bytes held after it: where the device
+/// memory of a large scene goes.
 /// Counts what the buffers asked for (their capacity), not what the CUDA
 /// memory pool keeps in reserve, nor memory that libraries allocate themselves
 /// outside DeviceBuffer (temporary storage is allocated through DeviceBuffer too).
@@ -28,6 +32,9 @@ class DeviceMemoryTracker {
   std::size_t peak_bytes() const { return peak_.load(); }
   /// Starts a new measurement: the peak becomes the bytes held now.
   void reset_peak() { peak_.store(current_.load()); }
+
+  /// Names what the calling thread allocates for next (a string literal), for the log.
+  static void set_stage(const char* stage);
 
  private:
   DeviceMemoryTracker() = default;

@@ -220,6 +220,19 @@ CudaNarrowPhase::CudaNarrowPhase(cudaStream_t stream)
       temp_(0, stream),
       gathered_(0, stream) {}
 
+std::size_t CudaNarrowPhase::held_bytes() const {
+  return results_.capacity_bytes() + searched_results_.capacity_bytes() + flags_.capacity_bytes() +
+         searched_flags_.capacity_bytes() + selected_.capacity_bytes() + selected_results_.capacity_bytes() +
+         selected_count_.capacity_bytes() + counters_.capacity_bytes() + temp_.capacity_bytes() +
+         gathered_.capacity_bytes();
+}
+
+void CudaNarrowPhase::release_buffers() {
+  for (auto* results : {&results_, &searched_results_, &selected_results_}) results->release();
+  for (auto* bytes : {&flags_, &searched_flags_, &temp_, &gathered_}) bytes->release();
+  selected_.release();
+}
+
 std::size_t CudaNarrowPhase::select_flagged(std::size_t count) {
   resize_or_throw(selected_, count, "CCD candidate indices");
   select_flagged_into(thrust::counting_iterator<std::uint32_t>(0), flags_.data(), selected_.data(),
@@ -261,6 +274,7 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
                                     std::vector<typename Query::Candidate>* hit_candidates) {
   const bool screen = passes != CcdPasses::kSinglePass;
   const bool search = passes == CcdPasses::kScreenThenSearch;
+  DeviceMemoryTracker::set_stage("narrow phase");
   CudaEvent start, screened, compacted, searched;
   resize_or_throw(results_, count, "CCD results");
   resize_or_throw(flags_, count, "CCD flags");

@@ -121,6 +121,16 @@ class CudaNarrowPhase {
   /// round, not by the candidate count. Results do not depend on it.
   void set_chunk_size(std::size_t candidates) { chunk_size_ = candidates > 0 ? candidates : 1; }
   static constexpr std::size_t kDefaultChunkSize = std::size_t{1} << 24;
+  /// Device bytes a round holds per CCD candidate (screen only: result,
+  /// flag, index, compacted result, gathered candidate) and per static pair
+  /// (flag, index, gathered pair), scratch included.
+  static constexpr std::size_t kCcdBytesPerCandidate = 64;
+  static constexpr std::size_t kStaticBytesPerPair = 16;
+
+  /// Device bytes its buffers hold now.
+  std::size_t held_bytes() const;
+  /// Gives back its buffers (in stream order); they grow again on the next call.
+  void release_buffers();
 
   /// Timings of the calls since the last reset.
   const NarrowPhaseTimings& timings() const { return timings_; }

@@ -5,6 +5,12 @@
 // test, prefix sums); Grand, GPU Gems 3 ch. 32 and the virtual subdivision
 // chapter, section 5.3.3 (control bits, extended control bits).
 // Primitives: CUB DeviceScan, DeviceRadixSort, DeviceSelect::Unique.
+//
+// Chunks: each cell's leaves are ordered by root triangle (the tests' filters
+// and keys do not depend on which leaf of a pair comes first), so that the
+// tests of a cell whose smaller root lies in a range [lo, hi) are the rows
+// i0..i1-1 of its triangular numbering: one contiguous run of work items. A
+// chunk's pass runs exactly its own tests; all chunks together run each test once.
 #include "libcd/cuda/pair_enumeration.cuh"
 
 #include <cub/device/device_radix_sort.cuh>
@@ -12,6 +18,11 @@
 #include <cub/device/device_select.cuh>
 
 #include <algorithm>
+#include <deque>
+#include <string>
+
+#include "libcd/core/error.hpp"
+#include "libcd/cuda/cuda_event.cuh"
 
 #include "libcd/cuda/launch.cuh"
 #include "libcd/grid/control_bits.hpp"
@@ -30,32 +41,77 @@ void ensure(DeviceBuffer<unsigned char>& temp, std::size_t bytes) {
   if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
 }
 
-__global__ void cell_tests_kernel(const std::uint64_t* first, std::size_t cells, std::uint64_t* tests) {
-  const std::uint64_t c = thread_item();
-  if (c < cells) tests[c] = pair_count(first[c + 1] - first[c]);
-  else if (c == cells) tests[c] = 0;
+/// Sort keys of the registrations: cell rank above, root triangle below; the
+/// values are the leaf ids.
+__global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t* first, std::size_t cells,
+                                         const std::uint32_t* cell_leaves, std::size_t count, std::uint64_t* keys,
+                                         std::uint32_t* ids) {
+  const std::uint64_t r = thread_item();
+  if (r >= count) return;
+  const std::uint64_t c = cell_of_work_item(first, cells, r);
+  keys[r] = (c << 32) | leaves[cell_leaves[r]].triangle.root;
+  ids[r] = cell_leaves[r];
 }
 
-__global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t* cell_leaves, std::size_t count,
+__global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t* ids, std::size_t count,
                                          RegisteredLeaf* out) {
   const std::uint64_t r = thread_item();
   if (r >= count) return;
-  const Leaf& leaf = leaves[cell_leaves[r]];
+  const Leaf& leaf = leaves[ids[r]];
   out[r] = RegisteredLeaf{leaf.triangle, leaf.cells};
 }
 
-/// The tests, one work item per thread and round: work item w finds its cell
-/// by binary search and its pair by the triangular inversion, then runs the
-/// CPU's filters in the CPU's order. The grid is sized to fill the device
-/// once and strides over the work items, so the counters are summed in
-/// registers and added with one atomic per warp at the end; kept (and, with
-/// count_culled, culled) root pairs are appended with one atomic per warp and
-/// round. Every lane runs every round, so warp-wide operations see full warps.
+/// The first of a cell's leaves (ordered by root) whose root is at least `root`.
+__device__ std::uint64_t first_with_root(const RegisteredLeaf* registered, std::uint64_t begin, std::uint64_t end,
+                                         std::uint32_t root) {
+  while (begin < end) {
+    const std::uint64_t mid = begin + (end - begin) / 2;
+    if (registered[mid].triangle.root < root) begin = mid + 1; else end = mid;
+  }
+  return begin;
+}
+
+/// Tests of each cell whose smaller root lies in [lo, hi): rows i0..i1-1 of
+/// the cell's numbering, tests[c] of them from row_first[c] on; tests[cells] = 0.
+__global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells, const RegisteredLeaf* registered,
+                                   std::uint32_t lo, std::uint32_t hi, std::uint64_t* tests,
+                                   std::uint64_t* row_first) {
+  const std::uint64_t c = thread_item();
+  if (c > cells) return;
+  if (c == cells) {
+    tests[c] = 0;
+    return;
+  }
+  const std::uint64_t begin = first[c], end = first[c + 1], n = end - begin;
+  const std::uint64_t i0 = first_with_root(registered, begin, end, lo) - begin;
+  const std::uint64_t i1 = first_with_root(registered, begin, end, hi) - begin;
+  auto rows_before = [n](std::uint64_t i) { return i * (2 * n - i - 1) / 2; };
+  row_first[c] = rows_before(i0);
+  tests[c] = rows_before(i1) - rows_before(i0);
+}
+
+/// Buckets of the histogram of kept tests over a pass's root range.
+constexpr unsigned kHistogramBuckets = 1024;
+
+/// The tests of a chunk, one work item per thread and round: work item w
+/// finds its cell by binary search and its pair by the triangular inversion
+/// (from the chunk's first row of the cell on), runs the CPU's filters in
+/// the CPU's order, and each kept test adds one to its smaller root's bucket
+/// of the histogram over [range_first, ...) (in shared memory, added to
+/// `histogram` once per block). The grid is sized to fill the device once and strides over the
+/// work items, so the counters are summed in registers and added with one
+/// atomic per warp at the end; kept (and, with count_culled, culled) root
+/// pairs are appended with one atomic per warp and round. Every lane runs
+/// every round, so warp-wide operations see full warps.
 __global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test, std::size_t cells,
-                            const std::uint64_t* first, const std::uint64_t* cell_ids,
-                            const RegisteredLeaf* registered, GridSpec grid, const Dop18* triangle_dops,
-                            std::uint64_t* kept, std::uint64_t kept_capacity, bool count_culled,
+                            const std::uint64_t* row_first, const std::uint64_t* first,
+                            const std::uint64_t* cell_ids, const RegisteredLeaf* registered, GridSpec grid,
+                            const Dop18* triangle_dops, std::uint32_t range_first, std::uint32_t bucket_width,
+                            unsigned* histogram, std::uint64_t* kept, std::uint64_t kept_capacity, bool count_culled,
                             std::uint64_t* culled, std::uint64_t culled_capacity, unsigned long long* counters) {
+  __shared__ unsigned block_histogram[kHistogramBuckets];
+  for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
+  __syncthreads();
   unsigned same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culls = 0;
   const std::uint64_t stride = static_cast<std::uint64_t>(gridDim.x) * blockDim.x;
   for (std::uint64_t base = static_cast<std::uint64_t>(blockIdx.x) * blockDim.x; base < tests; base += stride) {
@@ -66,10 +122,12 @@ __global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test
       const std::uint64_t c = cell_of_work_item(first_test, cells, w);
       const std::uint64_t n = first[c + 1] - first[c];
       std::uint64_t i = 0, j = 0;
-      pair_from_index(n, w - first_test[c], i, j);
+      pair_from_index(n, w - first_test[c] + row_first[c], i, j);
       const RegisteredLeaf& a = registered[first[c] + i];
       const RegisteredLeaf& b = registered[first[c] + j];
-      if (a.triangle.root == b.triangle.root) {
+      const Index ra = a.triangle.root, rb = b.triangle.root;
+      const Index low = ra < rb ? ra : rb;
+      if (ra == rb) {
         ++same_root;
       } else if (!slots_nested(a.triangle, b.triangle)) {
         ++time_slots;
@@ -80,10 +138,13 @@ __global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test
           case CellPairVerdict::kTestFallback: ++fallback; [[fallthrough]];
           case CellPairVerdict::kTest: {
             ++passed;
-            const Index ra = a.triangle.root, rb = b.triangle.root;
             key = pack_pair(ra, rb);
-            if (dop_overlap(triangle_dops[ra], triangle_dops[rb])) keep = true;
-            else cull = true;
+            if (dop_overlap(triangle_dops[ra], triangle_dops[rb])) {
+              keep = true;
+              atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
+            } else {
+              cull = true;
+            }
             break;
           }
         }
@@ -105,6 +166,9 @@ __global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test
   detail::warp_count(fallback, &counters[kFallback]);
   detail::warp_count(passed, &counters[kPassed]);
   detail::warp_count(culls, &counters[kCulled]);
+  __syncthreads();
+  for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x)
+    if (block_histogram[k] != 0) atomicAdd(&histogram[k], block_histogram[k]);
 }
 
 __global__ void unpack_pairs_kernel(const std::uint64_t* keys, std::size_t n, TrianglePair* pairs) {
@@ -118,122 +182,250 @@ int bits_for(std::uint64_t max_value) {
   return bits;
 }
 
-/// Sorts n keys of `in` (into p.sorted) and removes duplicates (into out); returns the unique count.
-std::size_t sort_unique(std::uint64_t* in, std::size_t n, int end_bit, DevicePairs& p, std::uint64_t* out,
-                        cudaStream_t stream) {
+/// Sorts the n keys of `keys` (using `spare`, as large, as the sort's other
+/// half) and removes duplicates; returns the unique count and sets `unique`
+/// to the buffer (keys or spare) that holds them.
+std::size_t sort_unique(std::uint64_t* keys, std::uint64_t* spare, std::size_t n, int end_bit, DevicePairs& p,
+                        std::uint64_t*& unique, cudaStream_t stream) {
+  unique = keys;
   if (n == 0) return 0;
+  cub::DoubleBuffer<std::uint64_t> halves(keys, spare);
   std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, in, p.sorted.data(), n, 0, end_bit, stream));
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, halves, n, 0, end_bit, stream));
   ensure(p.temp, bytes);
   bytes = p.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(p.temp.data(), bytes, in, p.sorted.data(), n, 0, end_bit, stream));
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(p.temp.data(), bytes, halves, n, 0, end_bit, stream));
   bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceSelect::Unique(nullptr, bytes, p.sorted.data(), out, p.counters.data() + kCounters, n,
-                                            stream));
+  SNAG_CUDA_CHECK(cub::DeviceSelect::Unique(nullptr, bytes, halves.Current(), halves.Alternate(),
+                                            p.counters.data() + kCounters, n, stream));
   ensure(p.temp, bytes);
   bytes = p.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceSelect::Unique(p.temp.data(), bytes, p.sorted.data(), out, p.counters.data() + kCounters,
-                                            n, stream));
-  unsigned long long unique = 0;
-  SNAG_CUDA_CHECK(cudaMemcpyAsync(&unique, p.counters.data() + kCounters, sizeof(unique), cudaMemcpyDeviceToHost,
+  SNAG_CUDA_CHECK(cub::DeviceSelect::Unique(p.temp.data(), bytes, halves.Current(), halves.Alternate(),
+                                            p.counters.data() + kCounters, n, stream));
+  unsigned long long count = 0;
+  SNAG_CUDA_CHECK(cudaMemcpyAsync(&count, p.counters.data() + kCounters, sizeof(count), cudaMemcpyDeviceToHost,
                                   stream));
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
-  return unique;
+  unique = halves.Alternate();
+  return count;
+}
+
+/// Splits `range` into consecutive ranges of at most key_room kept tests
+/// each, from the histogram of a pass over it (buckets of bucket_width
+/// triangles). A bucket over key_room becomes a range of its own, to be
+/// split again with narrower buckets; one of one triangle cannot be split.
+std::vector<RootRange> split_range(RootRange range, const std::vector<unsigned>& histogram, std::uint32_t bucket_width,
+                                   std::size_t key_room) {
+  std::vector<RootRange> parts;
+  std::uint32_t start = range.first;
+  std::uint64_t sum = 0;
+  for (std::uint32_t k = 0; k < kHistogramBuckets; ++k) {
+    const std::uint64_t lo64 = std::uint64_t{range.first} + std::uint64_t{k} * bucket_width;
+    if (lo64 >= range.end) break;
+    const auto lo = static_cast<std::uint32_t>(lo64);
+    const auto hi = static_cast<std::uint32_t>(std::min<std::uint64_t>(range.end, lo64 + bucket_width));
+    const std::uint64_t count = histogram[k];
+    if (count > key_room) {
+      if (bucket_width == 1)
+        throw UsageError("the device memory limit is too small for this scene: triangle " + std::to_string(lo) +
+                         " alone has " + std::to_string(count) + " pair tests to keep, a chunk of the limit holds " +
+                         std::to_string(key_room) + "; raise the limit (snag-scan --device-memory)");
+      if (start < lo) parts.push_back({start, lo});
+      parts.push_back({lo, hi});
+      start = hi;
+      sum = 0;
+      continue;
+    }
+    if (sum + count > key_room) {
+      parts.push_back({start, lo});
+      start = lo;
+      sum = 0;
+    }
+    sum += count;
+  }
+  if (start < range.end) parts.push_back({start, range.end});
+  return parts;
 }
 
 }  // namespace
 
 void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists, const GridSpec& grid,
                                const Dop18* triangle_dops, std::size_t triangle_count, bool count_culled,
-                               DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats) {
+                               PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
+                               const std::function<void(const TrianglePair*, std::size_t)>& visit) {
   const std::size_t cells = lists.cells;
+  if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
+    throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
+  const auto triangle_end = static_cast<std::uint32_t>(triangle_count);
   p.counters.resize(kCounters + 1);
-  p.pair_count = 0;
-  p.pairs.resize(0);
+  p.histogram.resize(kHistogramBuckets);
+  p.cell_tests.resize(cells + 1);
+  p.first_test.resize(cells + 1);
+  p.row_first.resize(cells + 1);
+
+  // The registrations in cell order, each cell's by root triangle.
   const std::size_t registrations = lists.leaves.size();
   p.registered.resize(registrations);
   if (registrations > 0) {
+    p.order_keys.resize(registrations);
+    p.order_keys_spare.resize(registrations);
+    p.order_ids.resize(registrations);
+    p.order_ids_spare.resize(registrations);
+    registration_keys_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
+        leaves, lists.first.data(), cells, lists.leaves.data(), registrations, p.order_keys.data(),
+        p.order_ids.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+    cub::DoubleBuffer<std::uint64_t> keys(p.order_keys.data(), p.order_keys_spare.data());
+    cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
+    const int end_bit = 32 + bits_for(cells > 0 ? cells - 1 : 0);
+    std::size_t bytes = 0;
+    SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, ids, registrations, 0, end_bit, stream));
+    ensure(p.temp, bytes);
+    bytes = p.temp.size();
+    SNAG_CUDA_CHECK(
+        cub::DeviceRadixSort::SortPairs(p.temp.data(), bytes, keys, ids, registrations, 0, end_bit, stream));
     gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-        leaves, lists.leaves.data(), registrations, p.registered.data());
+        leaves, ids.Current(), registrations, p.registered.data());
     SNAG_CUDA_CHECK_LAUNCH();
   }
-  p.cell_tests.resize(cells + 1);
-  p.first_test.resize(cells + 1);
-  cell_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(lists.first.data(), cells,
-                                                                             p.cell_tests.data());
-  SNAG_CUDA_CHECK_LAUNCH();
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(
-      cub::DeviceScan::ExclusiveSum(nullptr, bytes, p.cell_tests.data(), p.first_test.data(), cells + 1, stream));
-  ensure(p.temp, bytes);
-  bytes = p.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(p.temp.data(), bytes, p.cell_tests.data(), p.first_test.data(),
-                                                cells + 1, stream));
-  std::uint64_t tests = 0;
-  SNAG_CUDA_CHECK(
-      cudaMemcpyAsync(&tests, p.first_test.data() + cells, sizeof(tests), cudaMemcpyDeviceToHost, stream));
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
-  stats.tests = tests;
 
-  // Room for the passing pairs: what the last call needed, at least a share of
-  // the tests; grown and run again when a count overflows.
-  unsigned long long counts[kCounters] = {};
-  if (tests > 0) {
-    // As many blocks as the device holds at once (the kernel strides).
-    int device = 0, sms = 0, per_sm = 0;
-    SNAG_CUDA_CHECK(cudaGetDevice(&device));
-    SNAG_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
-    SNAG_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, test_kernel, detail::kBlockSize, 0));
-    const std::uint64_t resident_blocks = static_cast<std::uint64_t>(std::max(1, sms * std::max(1, per_sm)));
-    // A warp's per-thread counts are summed in 32 bits: at most 2^27 rounds.
-    if (tests / (resident_blocks * detail::kBlockSize) >= (std::uint64_t{1} << 27))
-      throw CudaError("broad phase: too many pair tests for one launch", 0);
-    std::size_t kept_room = std::max<std::size_t>(p.kept.capacity(), std::min<std::uint64_t>(tests, 1 << 20));
-    std::size_t culled_room =
-        count_culled ? std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(tests, 1 << 18)) : 0;
-    for (;;) {
-      p.kept.resize(kept_room);
-      p.culled.resize(culled_room);
-      p.counters.fill_zero();
-      const std::uint64_t blocks = std::min<std::uint64_t>((tests + detail::kBlockSize - 1) / detail::kBlockSize,
-                                                           resident_blocks);
+  // The tests of the cells whose smaller root lies in `range`, numbered
+  // cell by cell (first_test); returns their count.
+  auto number_tests = [&](RootRange range) {
+    chunk_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
+        lists.first.data(), cells, p.registered.data(), range.first, range.end, p.cell_tests.data(),
+        p.row_first.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+    std::size_t bytes = 0;
+    SNAG_CUDA_CHECK(
+        cub::DeviceScan::ExclusiveSum(nullptr, bytes, p.cell_tests.data(), p.first_test.data(), cells + 1, stream));
+    ensure(p.temp, bytes);
+    bytes = p.temp.size();
+    SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(p.temp.data(), bytes, p.cell_tests.data(), p.first_test.data(),
+                                                  cells + 1, stream));
+    std::uint64_t tests = 0;
+    SNAG_CUDA_CHECK(
+        cudaMemcpyAsync(&tests, p.first_test.data() + cells, sizeof(tests), cudaMemcpyDeviceToHost, stream));
+    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+    return tests;
+  };
+  const std::uint64_t all_tests = number_tests({0, triangle_end});
+  stats.tests = all_tests;
+
+  // The key room of this call; buffers a larger room left are given back.
+  const std::size_t key_room = std::max<std::size_t>(plan.key_room, 1);
+  if (p.kept.capacity() > key_room) p.kept.release();
+  if (p.sorted.capacity() > key_room) p.sorted.release();
+  if (p.pairs.capacity() > key_room) p.pairs.release();
+  std::deque<RootRange> todo(plan.ranges.begin(), plan.ranges.end());
+  if (todo.empty() || todo.front().first != 0 || todo.back().end != triangle_end) todo.assign(1, {0, triangle_end});
+  plan.ranges.clear();
+
+  // As many blocks as the device holds at once (the kernel strides).
+  int device = 0, sms = 0, per_sm = 0;
+  SNAG_CUDA_CHECK(cudaGetDevice(&device));
+  SNAG_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
+  SNAG_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, test_kernel, detail::kBlockSize, 0));
+  const auto resident_blocks = static_cast<std::uint64_t>(std::max(1, sms * std::max(1, per_sm)));
+  // A warp's per-thread counts are summed in 32 bits: at most 2^27 rounds.
+  if (all_tests / (resident_blocks * detail::kBlockSize) >= (std::uint64_t{1} << 27))
+    throw CudaError("broad phase: too many pair tests for one launch", 0);
+
+  unsigned long long totals[kCounters] = {};
+  std::size_t kept_total = 0, unique_total = 0, culled_total = 0, culled_unique_total = 0;
+  const int end_bit = 32 + bits_for(triangle_count > 0 ? triangle_count - 1 : 0);
+  std::vector<unsigned> histogram(kHistogramBuckets);
+  double seconds = 0;
+  std::size_t culled_room =
+      count_culled ? std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(all_tests, 1 << 18)) : 0;
+  RootRange numbered{0, triangle_end};  // the range first_test numbers now, and its tests
+  std::uint64_t range_tests = all_tests;
+  while (!todo.empty()) {
+    const RootRange range = todo.front();
+    const std::uint32_t bucket_width =
+        std::max<std::uint32_t>(1, (range.end - range.first + kHistogramBuckets - 1) / kHistogramBuckets);
+    CudaEvent start, done;
+    start.record(stream);
+    if (range.first != numbered.first || range.end != numbered.end) {
+      range_tests = number_tests(range);
+      numbered = range;
+    }
+    // Room: for the whole set what the last pass needed, at least a share of
+    // the tests; for a planned or split range all of key_room (it was sized
+    // to hold it); never more than key_room or the range's tests.
+    const bool whole = range.first == 0 && range.end == triangle_end;
+    const std::size_t kept_room = std::min<std::uint64_t>(
+        {key_room, std::max<std::uint64_t>(range_tests, 1),
+         whole ? std::max<std::uint64_t>(p.kept.capacity(), std::min<std::uint64_t>(range_tests, 1 << 20))
+               : key_room});
+    p.kept.resize(kept_room);
+    p.culled.resize(culled_room);
+    p.counters.fill_zero();
+    p.histogram.fill_zero();
+    unsigned long long counts[kCounters] = {};
+    if (range_tests > 0) {
+      const std::uint64_t blocks = std::min<std::uint64_t>(
+          (range_tests + detail::kBlockSize - 1) / detail::kBlockSize, resident_blocks);
       test_kernel<<<static_cast<unsigned>(blocks), detail::kBlockSize, 0, stream>>>(
-          tests, p.first_test.data(), cells, lists.first.data(), lists.cell_ids.data(), p.registered.data(), grid,
-          triangle_dops, p.kept.data(), kept_room, count_culled, p.culled.data(), culled_room, p.counters.data());
+          range_tests, p.first_test.data(), cells, p.row_first.data(), lists.first.data(), lists.cell_ids.data(),
+          p.registered.data(), grid, triangle_dops, range.first, bucket_width, p.histogram.data(), p.kept.data(),
+          kept_room, count_culled, p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();
       p.counters.download(counts, kCounters);
+      p.histogram.download(histogram.data(), kHistogramBuckets);
       SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
-      if (counts[kKept] <= kept_room && (!count_culled || counts[kCulled] <= culled_room)) break;
-      kept_room = std::max<std::size_t>(kept_room, counts[kKept]);
-      culled_room = std::max<std::size_t>(culled_room, counts[kCulled]);
     }
-  }
-  stats.same_root_tests = counts[kSameRoot];
-  stats.removed_by_time_slots = counts[kTimeSlots];
-  stats.removed_by_control_bits = counts[kControlBits];
-  stats.removed_by_extended_control_bits = counts[kExtended];
-  stats.fallback_tests = counts[kFallback];
-  stats.tests_after_control_bits = counts[kPassed];
-  stats.culled_by_dop = counts[kCulled];
+    if (count_culled && counts[kCulled] > culled_room) {  // the benchmark's culled keys: grow, run again
+      culled_room = counts[kCulled];
+      continue;
+    }
+    if (counts[kKept] > kept_room) {
+      if (counts[kKept] <= key_room) {
+        p.kept.resize(counts[kKept]);  // grow within the room and run again
+      } else {
+        todo.pop_front();
+        const std::vector<RootRange> parts = split_range(range, histogram, bucket_width, key_room);
+        todo.insert(todo.begin(), parts.begin(), parts.end());
+      }
+      continue;
+    }
+    todo.pop_front();
+    for (int k = 0; k < kCounters; ++k) totals[k] += counts[k];
 
-  // Final sort + unique; duplicate root-pair tests counted exactly, as on the CPU
-  // (among the culled tests only when their keys were kept).
-  const std::size_t kept_tests = counts[kKept], culled_tests = count_culled ? counts[kCulled] : 0;
-  const int end_bit = 32 + bits_for(triangle_count > 0 ? triangle_count - 1 : 0);
-  p.sorted.resize(std::max(kept_tests, culled_tests));
-  p.unique_keys.resize(std::max(kept_tests, culled_tests));
-  const std::size_t culled_unique = sort_unique(p.culled.data(), culled_tests, end_bit, p, p.unique_keys.data(), stream);
-  const std::size_t kept_unique = sort_unique(p.kept.data(), kept_tests, end_bit, p, p.unique_keys.data(), stream);
-  stats.duplicate_root_pair_tests = kept_tests - kept_unique;
-  stats.duplicate_culled_tests = culled_tests - culled_unique;
-  stats.triangle_pairs = kept_unique;
-  p.pair_count = kept_unique;
-  p.pairs.resize(kept_unique);
-  if (kept_unique > 0) {
-    unpack_pairs_kernel<<<blocks_for(kept_unique), detail::kBlockSize, 0, stream>>>(p.unique_keys.data(), kept_unique,
-                                                                                    p.pairs.data());
-    SNAG_CUDA_CHECK_LAUNCH();
+    // Sort + unique of the chunk's keys; duplicate root-pair tests counted
+    // exactly, as on the CPU (among the culled tests only when their keys were kept).
+    const std::size_t kept_tests = counts[kKept], culled_tests = count_culled ? counts[kCulled] : 0;
+    p.sorted.resize(std::max(kept_tests, culled_tests));
+    std::uint64_t* unique = nullptr;
+    culled_unique_total += sort_unique(p.culled.data(), p.sorted.data(), culled_tests, end_bit, p, unique, stream);
+    const std::size_t kept_unique =
+        sort_unique(p.kept.data(), p.sorted.data(), kept_tests, end_bit, p, unique, stream);
+    kept_total += kept_tests;
+    culled_total += culled_tests;
+    unique_total += kept_unique;
+    p.pairs.resize(kept_unique);
+    if (kept_unique > 0) {
+      unpack_pairs_kernel<<<blocks_for(kept_unique), detail::kBlockSize, 0, stream>>>(unique, kept_unique,
+                                                                                      p.pairs.data());
+      SNAG_CUDA_CHECK_LAUNCH();
+    }
+    done.record(stream);
+    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+    seconds += static_cast<double>(CudaEvent::elapsed_ms(start, done)) / 1000.0;
+    plan.ranges.push_back(range);
+    visit(p.pairs.data(), kept_unique);
   }
+  stats.same_root_tests = totals[kSameRoot];
+  stats.removed_by_time_slots = totals[kTimeSlots];
+  stats.removed_by_control_bits = totals[kControlBits];
+  stats.removed_by_extended_control_bits = totals[kExtended];
+  stats.fallback_tests = totals[kFallback];
+  stats.tests_after_control_bits = totals[kPassed];
+  stats.culled_by_dop = totals[kCulled];
+  stats.duplicate_root_pair_tests = kept_total - unique_total;
+  stats.duplicate_culled_tests = culled_total - culled_unique_total;
+  stats.triangle_pairs = unique_total;
+  stats.seconds_pairs = seconds;
 }
 
 }  // namespace snag

@@ -13,6 +13,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <vector>
 
 #include "libcd/bounding_volume/dop18.hpp"
 #include "libcd/broad_phase/broad_phase.hpp"
@@ -22,29 +24,64 @@ namespace snag {
 
 /// Buffers of the pair stage, reused across calls (they only grow).
 struct DevicePairs {
-  DeviceBuffer<RegisteredLeaf> registered;
-  DeviceBuffer<std::uint64_t> cell_tests, first_test;
-  DeviceBuffer<std::uint64_t> kept, culled, sorted, unique_keys;
-  DeviceBuffer<TrianglePair> pairs;  ///< the result: unique root pairs, ascending
+  DeviceBuffer<RegisteredLeaf> registered;  ///< cell by cell, each cell's by root triangle
+  DeviceBuffer<std::uint64_t> order_keys, order_keys_spare;  ///< the registrations' sort
+  DeviceBuffer<std::uint32_t> order_ids, order_ids_spare;
+  DeviceBuffer<std::uint64_t> cell_tests, first_test, row_first;  ///< a chunk's tests per cell
+  DeviceBuffer<std::uint64_t> kept, culled, sorted;  ///< kept and sorted: the sort's two halves
+  DeviceBuffer<TrianglePair> pairs;  ///< the result of a chunk: unique root pairs, ascending
   DeviceBuffer<unsigned long long> counters;
+  DeviceBuffer<unsigned> histogram;  ///< kept tests per root bucket of the last pass
   DeviceBuffer<unsigned char> temp;
-  std::size_t pair_count = 0;
 
   explicit DevicePairs(cudaStream_t stream)
-      : registered(0, stream),
-        cell_tests(0, stream), first_test(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream),
-        unique_keys(0, stream), pairs(0, stream), counters(0, stream), temp(0, stream) {}
+      : registered(0, stream), order_keys(0, stream), order_keys_spare(0, stream), order_ids(0, stream),
+        order_ids_spare(0, stream), cell_tests(0, stream), first_test(0, stream), row_first(0, stream),
+        kept(0, stream), culled(0, stream),
+        sorted(0, stream), pairs(0, stream), counters(0, stream), histogram(0, stream), temp(0, stream) {}
 };
 
-/// Runs every test of the registered cells and leaves the unique triangle
-/// pairs in pairs.pairs. Fills stats' test counters, culled_by_dop,
-/// duplicate_root_pair_tests, duplicate_culled_tests (when count_culled: the
-/// culled tests' keys are then kept, see BroadPhaseSettings) and
-/// triangle_pairs. When more pairs pass than the preallocated arrays hold,
-/// they are grown and the tests run again. Waits for the stream. Throws CudaError.
+/// Device bytes per kept test of a chunk: its key, the sort's second half,
+/// its unique pair (the sort's scratch is small beside them).
+constexpr std::size_t kPairChunkBytesPerTest = 3 * sizeof(std::uint64_t);
+
+/// The triangles [first, end) whose pairs (with a larger triangle) one chunk holds.
+struct RootRange {
+  std::uint32_t first = 0, end = 0;
+};
+
+/// The pair tests of the registered cells, run chunk by chunk.
+///
+/// Memory: the kept tests of a pass are at most `key_room` (the caller's share
+/// of the device memory over kPairChunkBytesPerTest); when one pass would keep
+/// more, the tests are split by the smaller root triangle of each pair into
+/// ranges (RootRange) of at most key_room kept tests each, read from a
+/// histogram of the kept tests over the range, and every range runs as a pass
+/// of its own: every test, only those of the range kept. Ranges are disjoint
+/// and ascending, so the chunks' unique pairs, one after the other, are the
+/// sorted unique pairs of the whole set, and every count is the sum over
+/// chunks. `plan` holds the ranges of the last call and is tried first (a scan's
+/// steps are alike); on return it holds this call's.
+/// Throws UsageError when the kept tests of one triangle exceed key_room.
+struct PairChunkPlan {
+  std::size_t key_room = ~std::size_t{0};
+  std::vector<RootRange> ranges;
+};
+
+/// Runs every test of the registered cells and hands the unique triangle
+/// pairs to `visit` chunk by chunk (see PairChunkPlan), each chunk's pairs
+/// ascending and the chunks in ascending order; the device array passed to
+/// visit is valid until it returns. Fills stats' test counters,
+/// culled_by_dop, duplicate_root_pair_tests, duplicate_culled_tests (when
+/// count_culled: the culled tests' keys are then kept, see
+/// BroadPhaseSettings; their room is not bounded by the plan) and
+/// triangle_pairs, and the seconds of the tests and sorts in
+/// stats.seconds_pairs (CUDA events, visit's time left out). Waits for the
+/// stream. Throws CudaError, UsageError.
 /// @param triangle_dops  #F device root swept DOPs; triangle_count = #F
 void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists, const GridSpec& grid,
                                const Dop18* triangle_dops, std::size_t triangle_count, bool count_culled,
-                               DevicePairs& pairs, cudaStream_t stream, BroadPhaseStats& stats);
+                               PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream, BroadPhaseStats& stats,
+                               const std::function<void(const TrianglePair*, std::size_t)>& visit);
 
 }  // namespace snag

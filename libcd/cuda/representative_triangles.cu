@@ -8,6 +8,10 @@
 #include <cub/device/device_scan.cuh>
 
 #include <algorithm>
+#include <string>
+#include <vector>
+
+#include "libcd/core/error.hpp"
 
 #include "libcd/cuda/launch.cuh"
 
@@ -89,12 +93,36 @@ __global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_
   detail::warp_count(ee_before, &counters[1]);
 }
 
-__global__ void write_kernel(FeatureInputs in, std::size_t n, const std::uint64_t* vf_offset,
+/// Writes the keys of pairs [first, first + n), at their offsets less those of pair `first`.
+__global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t n, const std::uint64_t* vf_offset,
                              const std::uint64_t* ee_offset, std::uint64_t* vf_keys, std::uint64_t* ee_keys) {
-  const std::uint64_t p = thread_item();
-  if (p >= n) return;
+  const std::uint64_t k = thread_item();
+  if (k >= n) return;
+  const std::uint64_t p = first + k;
   unsigned vf_before = 0, vf_after = 0, ee_before = 0, ee_after = 0;
-  feature_pairs_of(in, p, vf_before, vf_after, ee_before, ee_after, vf_keys + vf_offset[p], ee_keys + ee_offset[p]);
+  feature_pairs_of(in, p, vf_before, vf_after, ee_before, ee_after, vf_keys + (vf_offset[p] - vf_offset[first]),
+                   ee_keys + (ee_offset[p] - ee_offset[first]));
+}
+
+/// Part j (0 <= j <= parts) starts at the first pair whose candidates before
+/// it number at least j * step (part `parts` at n); bounds[3j..3j+2] = that
+/// pair and its vertex-face and edge-edge offsets.
+__global__ void part_bounds_kernel(const std::uint64_t* vf_offset, const std::uint64_t* ee_offset, std::size_t n,
+                                   std::uint64_t step, std::size_t parts, std::uint64_t* bounds) {
+  const std::uint64_t j = thread_item();
+  if (j > parts) return;
+  std::uint64_t lo = 0, hi = n;  // the first p in [0, n] with offset(p) >= j * step
+  if (j == parts) {
+    lo = n;
+  } else {
+    while (lo < hi) {
+      const std::uint64_t mid = lo + (hi - lo) / 2;
+      if (vf_offset[mid] + ee_offset[mid] >= j * step) hi = mid; else lo = mid + 1;
+    }
+  }
+  bounds[3 * j] = lo;
+  bounds[3 * j + 1] = vf_offset[lo];
+  bounds[3 * j + 2] = ee_offset[lo];
 }
 
 __global__ void unpack_vf_kernel(const std::uint64_t* keys, std::size_t n, VertexFaceCandidate* out) {
@@ -121,28 +149,30 @@ void exclusive_sum(const std::uint64_t* in, std::uint64_t* out, std::size_t n, D
   SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temp.data(), bytes, in, out, n, stream));
 }
 
-void sort_keys(const std::uint64_t* in, std::uint64_t* out, std::size_t n, int end_bit,
-               DeviceBuffer<unsigned char>& temp, cudaStream_t stream) {
-  if (n == 0) return;
+/// Sorts n keys with `spare` as the sort's other half; returns the half that holds them sorted.
+const std::uint64_t* sort_keys(std::uint64_t* keys, std::uint64_t* spare, std::size_t n, int end_bit,
+                               DeviceBuffer<unsigned char>& temp, cudaStream_t stream) {
+  if (n == 0) return keys;
+  cub::DoubleBuffer<std::uint64_t> halves(keys, spare);
   std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, in, out, n, 0, end_bit, stream));
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, halves, n, 0, end_bit, stream));
   ensure(temp, bytes);
   bytes = temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(temp.data(), bytes, in, out, n, 0, end_bit, stream));
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(temp.data(), bytes, halves, n, 0, end_bit, stream));
+  return halves.Current();
 }
 
 }  // namespace
 
-void representative_feature_pairs_on_device(const DeviceTopology& topology, const Dop18* triangle_dops,
-                                            const Dop18* edge_dops, const Dop18* vertex_dops,
-                                            std::size_t vertex_count, std::size_t edge_count,
-                                            const TrianglePair* pairs, std::size_t n, DeviceFeatures& f,
-                                            cudaStream_t stream, FeatureCounts& counts) {
-  counts = FeatureCounts{};
-  f.vf_size = f.ee_size = 0;
-  f.vf.resize(0);
-  f.ee.resize(0);
+void representative_feature_pairs_on_device(
+    const DeviceTopology& topology, const Dop18* triangle_dops, const Dop18* edge_dops, const Dop18* vertex_dops,
+    std::size_t vertex_count, std::size_t edge_count, const TrianglePair* pairs, std::size_t n,
+    std::size_t candidate_room, DeviceFeatures& f, cudaStream_t stream, FeatureCounts& counts,
+    const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit) {
   if (n == 0) return;
+  if (candidate_room <= kMostCandidatesPerPair)
+    throw UsageError("the device memory limit is too small for this scene: the feature stage has room for " +
+                     std::to_string(candidate_room) + " candidates; raise the limit (snag-scan --device-memory)");
   const FeatureInputs in{topology.triangles.data(), topology.edges.data(), topology.masks.data(),
                          topology.edge_ids.data(), triangle_dops, edge_dops, vertex_dops, pairs};
   f.vf_count.resize(n + 1);
@@ -164,35 +194,53 @@ void representative_feature_pairs_on_device(const DeviceTopology& topology, cons
       cudaMemcpyAsync(&ee_total, f.ee_offset.data() + n, sizeof(ee_total), cudaMemcpyDeviceToHost, stream));
   f.counters.download(before, 2);
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
-  counts.vf_before = before[0];
-  counts.ee_before = before[1];
-  counts.vf_after = vf_total;
-  counts.ee_after = ee_total;
+  counts.vf_before += before[0];
+  counts.ee_before += before[1];
+  counts.vf_after += vf_total;
+  counts.ee_after += ee_total;
 
-  f.vf_keys.resize(vf_total);
-  f.ee_keys.resize(ee_total);
-  f.vf_sorted.resize(vf_total);
-  f.ee_sorted.resize(ee_total);
-  write_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(in, n, f.vf_offset.data(), f.ee_offset.data(),
-                                                                f.vf_keys.data(), f.ee_keys.data());
+  // Parts of consecutive pairs: a part starts where the candidates before it
+  // reach a multiple of step, so it holds fewer than step + 15 <= room.
+  const std::uint64_t step = candidate_room - kMostCandidatesPerPair;
+  const std::uint64_t total = vf_total + ee_total;
+  const std::size_t parts = std::max<std::uint64_t>(1, total / step + (total % step != 0 ? 1 : 0));
+  std::vector<std::uint64_t> bounds(3 * (parts + 1));
+  f.bounds.resize(bounds.size());
+  part_bounds_kernel<<<blocks_for(parts + 1), detail::kBlockSize, 0, stream>>>(
+      f.vf_offset.data(), f.ee_offset.data(), n, step, parts, f.bounds.data());
   SNAG_CUDA_CHECK_LAUNCH();
+  f.bounds.download(bounds.data(), bounds.size());
+  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+
   // Keys are unique (see representative_triangles.hpp); a sort orders them as the CPU's.
   const int vf_bits = 32 + bits_for(vertex_count > 0 ? vertex_count - 1 : 0);
   const int ee_bits = 32 + bits_for(edge_count > 0 ? edge_count - 1 : 0);
-  sort_keys(f.vf_keys.data(), f.vf_sorted.data(), vf_total, vf_bits, f.temp, stream);
-  sort_keys(f.ee_keys.data(), f.ee_sorted.data(), ee_total, ee_bits, f.temp, stream);
-  f.vf.resize(vf_total);
-  f.ee.resize(ee_total);
-  if (vf_total > 0) {
-    unpack_vf_kernel<<<blocks_for(vf_total), detail::kBlockSize, 0, stream>>>(f.vf_sorted.data(), vf_total, f.vf.data());
+  for (std::size_t j = 0; j < parts; ++j) {
+    const std::uint64_t first = bounds[3 * j], end = bounds[3 * j + 3];
+    const std::size_t vf_n = bounds[3 * j + 4] - bounds[3 * j + 1], ee_n = bounds[3 * j + 5] - bounds[3 * j + 2];
+    if (end == first) continue;
+    f.vf_keys.resize(vf_n);
+    f.ee_keys.resize(ee_n);
+    f.vf_sorted.resize(vf_n);
+    f.ee_sorted.resize(ee_n);
+    write_kernel<<<blocks_for(end - first), detail::kBlockSize, 0, stream>>>(
+        in, first, end - first, f.vf_offset.data(), f.ee_offset.data(), f.vf_keys.data(), f.ee_keys.data());
     SNAG_CUDA_CHECK_LAUNCH();
+    const std::uint64_t* vf_sorted = sort_keys(f.vf_keys.data(), f.vf_sorted.data(), vf_n, vf_bits, f.temp, stream);
+    const std::uint64_t* ee_sorted = sort_keys(f.ee_keys.data(), f.ee_sorted.data(), ee_n, ee_bits, f.temp, stream);
+    f.vf.resize(vf_n);
+    f.ee.resize(ee_n);
+    if (vf_n > 0) {
+      unpack_vf_kernel<<<blocks_for(vf_n), detail::kBlockSize, 0, stream>>>(vf_sorted, vf_n, f.vf.data());
+      SNAG_CUDA_CHECK_LAUNCH();
+    }
+    if (ee_n > 0) {
+      unpack_ee_kernel<<<blocks_for(ee_n), detail::kBlockSize, 0, stream>>>(ee_sorted, ee_n, f.ee.data());
+      SNAG_CUDA_CHECK_LAUNCH();
+    }
+    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+    visit(f.vf.data(), vf_n, f.ee.data(), ee_n);
   }
-  if (ee_total > 0) {
-    unpack_ee_kernel<<<blocks_for(ee_total), detail::kBlockSize, 0, stream>>>(f.ee_sorted.data(), ee_total, f.ee.data());
-    SNAG_CUDA_CHECK_LAUNCH();
-  }
-  f.vf_size = vf_total;
-  f.ee_size = ee_total;
 }
 
 }  // namespace snag

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 
 #include "libcd/bounding_volume/dop18.hpp"
 #include "libcd/broad_phase/candidates.hpp"
@@ -33,27 +34,38 @@ struct DeviceTopology {
 /// Buffers of the feature stage, reused across calls.
 struct DeviceFeatures {
   DeviceBuffer<std::uint64_t> vf_count, ee_count, vf_offset, ee_offset;
-  DeviceBuffer<std::uint64_t> vf_keys, ee_keys, vf_sorted, ee_sorted;
-  DeviceBuffer<VertexFaceCandidate> vf;  ///< the result, sorted
-  DeviceBuffer<EdgeEdgeCandidate> ee;    ///< the result, sorted
+  DeviceBuffer<std::uint64_t> vf_keys, ee_keys, vf_sorted, ee_sorted;  ///< keys and sorted: the sort's two halves
+  DeviceBuffer<VertexFaceCandidate> vf;  ///< the result of a part, sorted
+  DeviceBuffer<EdgeEdgeCandidate> ee;    ///< the result of a part, sorted
   DeviceBuffer<unsigned long long> counters;
+  DeviceBuffer<std::uint64_t> bounds;  ///< first pair, vf and ee offsets of each part
   DeviceBuffer<unsigned char> temp;
-  std::size_t vf_size = 0, ee_size = 0;
 
   explicit DeviceFeatures(cudaStream_t stream)
       : vf_count(0, stream), ee_count(0, stream), vf_offset(0, stream), ee_offset(0, stream), vf_keys(0, stream),
         ee_keys(0, stream), vf_sorted(0, stream), ee_sorted(0, stream), vf(0, stream), ee(0, stream),
-        counters(0, stream), temp(0, stream) {}
+        counters(0, stream), bounds(0, stream), temp(0, stream) {}
 };
 
+/// Device bytes of the feature stage per triangle pair (counts and offsets)
+/// and per candidate (key, the sort's second half, the candidate).
+constexpr std::size_t kFeatureBytesPerPair = 4 * sizeof(std::uint64_t);
+constexpr std::size_t kFeatureBytesPerCandidate = 3 * sizeof(std::uint64_t);
+/// The most candidates one triangle pair yields (6 vertex-face, 9 edge-edge).
+constexpr std::size_t kMostCandidatesPerPair = 15;
+
 /// Representative feature pairs of pair_count unique device triangle pairs,
-/// left sorted in features.vf / features.ee; counts as the CPU's.
+/// handed to `visit` in parts of consecutive pairs, each part's vertex-face
+/// and edge-edge candidates sorted (device arrays valid until visit
+/// returns). A part holds at most candidate_room candidates (vertex-face and
+/// edge-edge together), so that the stage's memory is bounded by the room;
+/// one part when they all fit. Adds the counts to `counts` (as the CPU's).
 /// @param triangle_dops, edge_dops, vertex_dops  device swept DOPs (#F, #E, #V)
-/// Waits for the stream. Throws CudaError.
-void representative_feature_pairs_on_device(const DeviceTopology& topology, const Dop18* triangle_dops,
-                                            const Dop18* edge_dops, const Dop18* vertex_dops,
-                                            std::size_t vertex_count, std::size_t edge_count,
-                                            const TrianglePair* pairs, std::size_t pair_count,
-                                            DeviceFeatures& features, cudaStream_t stream, FeatureCounts& counts);
+/// Waits for the stream. Throws CudaError, UsageError (a room under kMostCandidatesPerPair + 1).
+void representative_feature_pairs_on_device(
+    const DeviceTopology& topology, const Dop18* triangle_dops, const Dop18* edge_dops, const Dop18* vertex_dops,
+    std::size_t vertex_count, std::size_t edge_count, const TrianglePair* pairs, std::size_t pair_count,
+    std::size_t candidate_room, DeviceFeatures& features, cudaStream_t stream, FeatureCounts& counts,
+    const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit);
 
 }  // namespace snag

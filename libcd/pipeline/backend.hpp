@@ -38,6 +38,11 @@ struct BackendSettings {
   double lambda = 1.2;     ///< cell size = 3·λ·r_avg
   double thickness = 0;    ///< contact distance, scene units
   unsigned threads = 0;    ///< CPU threads, 0 = all cores
+  /// CUDA back end: the most device memory its buffers may hold, bytes (0 =
+  /// what the device has free at bind() less a margin). Larger scenes run in
+  /// chunks with the same events; one too large for any chunk fails with
+  /// UsageError. The CPU back end ignores it.
+  std::size_t device_memory_bytes = 0;
   CcdSettings ccd;         ///< the floating-point filter's tuning (thickness is taken from above)
   /// Exact certification of uncertain CCD answers; null = report them as
   /// uncertain (fast mode). Not owned.

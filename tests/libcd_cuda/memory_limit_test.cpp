@@ -1,0 +1,249 @@
+// Bounded device memory: the CUDA broad phase run in many chunks of root
+// triangles and parts of pairs gives exactly the candidates of one chunk (and
+// the same counts), and the CUDA back end under a small --device-memory limit
+// gives exactly the events of the unlimited run and of the CPU back end, with
+// the bytes its buffers hold (DeviceMemoryTracker) never above the limit. A
+// limit too small for the topology or for one chunk is a UsageError (exit 2
+// from snag-scan), never a crash. Oracles: the unchunked GPU run and the CPU
+// back end.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "event_compare.hpp"
+#include "gpu_test.hpp"
+#include "libcd/core/error.hpp"
+#include "libcd/cpu/cpu_backend.hpp"
+#include "libcd/cuda/cuda_backend.hpp"
+#include "libcd/cuda/cuda_broad_phase.cuh"
+#include "libcd/cuda/device_memory_tracker.hpp"
+#include "ply_mesh.hpp"
+
+namespace snag {
+namespace {
+
+/// The cloth_ball92 -> 93 step of the reference data.
+struct ClothBallStep {
+  test::PlyMesh m92 = test::read_binary_ply(test::shared_data_dir() + "/meshes/cloth_ball92.ply");
+  test::PlyMesh m93 = test::read_binary_ply(test::shared_data_dir() + "/meshes/cloth_ball93.ply");
+  Scene scene{{make_object("cloth_ball", static_cast<Index>(m92.positions.size()), m92.triangles)}};
+};
+
+struct Candidates {
+  std::vector<VertexFaceCandidate> vf;
+  std::vector<EdgeEdgeCandidate> ee;
+  std::vector<TrianglePair> pairs;
+  BroadPhaseStats ccd, statics;
+};
+
+Candidates detect(CudaBroadPhase& broad, const ClothBallStep& step) {
+  Candidates out;
+  broad.detect_ccd(step.m92.positions, step.m93.positions, out.vf, out.ee);
+  out.ccd = broad.stats();
+  broad.detect_static(step.m93.positions, out.pairs);
+  out.statics = broad.stats();
+  return out;
+}
+
+void expect_same_counts(const BroadPhaseStats& one, const BroadPhaseStats& chunked, const std::string& where) {
+  EXPECT_EQ(one.tests, chunked.tests) << where;
+  EXPECT_EQ(one.same_root_tests, chunked.same_root_tests) << where;
+  EXPECT_EQ(one.removed_by_time_slots, chunked.removed_by_time_slots) << where;
+  EXPECT_EQ(one.removed_by_control_bits, chunked.removed_by_control_bits) << where;
+  EXPECT_EQ(one.removed_by_extended_control_bits, chunked.removed_by_extended_control_bits) << where;
+  EXPECT_EQ(one.culled_by_dop, chunked.culled_by_dop) << where;
+  EXPECT_EQ(one.duplicate_root_pair_tests, chunked.duplicate_root_pair_tests) << where;
+  EXPECT_EQ(one.triangle_pairs, chunked.triangle_pairs) << where;
+  EXPECT_EQ(one.vf_before_culling, chunked.vf_before_culling) << where;
+  EXPECT_EQ(one.ee_before_culling, chunked.ee_before_culling) << where;
+  EXPECT_EQ(one.candidates, chunked.candidates) << where;
+}
+
+class MemoryLimit : public test::GpuTest {};
+
+TEST_F(MemoryLimit, ChunkedBroadPhaseOnClothBallGivesTheCandidatesOfOneChunk) {
+  const ClothBallStep step;
+  auto whole = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  whole->build(step.scene, BroadPhaseSettings{});
+  const Candidates one = detect(*whole, step);
+  ASSERT_EQ(whole->last_chunks(), 1u);
+  ASSERT_GT(one.pairs.size(), 100000u);
+  ASSERT_GT(one.vf.size() + one.ee.size(), 1000000u);
+
+  // Rooms of a few percent of the step's keys and candidates: tens of chunks
+  // and parts; the second detection reuses the first one's ranges.
+  auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  chunked->build(step.scene, BroadPhaseSettings{});
+  chunked->set_chunk_rooms(one.ccd.triangle_pairs / 20, (one.vf.size() + one.ee.size()) / 50);
+  for (int run = 0; run < 2; ++run) {
+    const std::string where = "run " + std::to_string(run);
+    const Candidates many = detect(*chunked, step);
+    EXPECT_GT(chunked->last_chunks(), 10u) << where;
+    EXPECT_EQ(many.vf, one.vf) << where;
+    EXPECT_EQ(many.ee, one.ee) << where;
+    EXPECT_EQ(many.pairs, one.pairs) << where;
+    expect_same_counts(one.ccd, many.ccd, where + " ccd");
+    expect_same_counts(one.statics, many.statics, where + " static");
+  }
+  // Parts of pairs inside each chunk: a candidate room far under a chunk's.
+  chunked->set_chunk_rooms(one.ccd.triangle_pairs / 4, (one.vf.size() + one.ee.size()) / 100);
+  Candidates parts;
+  chunked->detect_ccd(step.m92.positions, step.m93.positions, parts.vf, parts.ee);
+  EXPECT_GT(chunked->last_feature_parts(), 50u);
+  EXPECT_EQ(parts.vf, one.vf);
+  EXPECT_EQ(parts.ee, one.ee);
+  expect_same_counts(one.ccd, chunked->stats(), "parts");
+}
+
+// The same on a small random soup with rooms of a few keys and candidates
+// (hundreds of chunks and parts): small enough for the sanitizers.
+TEST_F(MemoryLimit, ChunksOfAFewTestsGiveTheCandidatesOfOneChunk) {
+  std::mt19937_64 random(14);
+  std::uniform_real_distribution<double> where(0, 1), corner(-0.05, 0.05), drift(-0.02, 0.02);
+  std::vector<Vec3> x_t0, x_t1;
+  std::vector<Triangle> triangles;
+  for (Index t = 0; t < 2000; ++t) {
+    const Vec3 center{where(random), where(random), where(random)};
+    const Vec3 move{drift(random), drift(random), drift(random)};
+    for (int k = 0; k < 3; ++k) {
+      x_t0.push_back(center + Vec3{corner(random), corner(random), corner(random)});
+      x_t1.push_back(x_t0.back() + move);
+    }
+    triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  const Scene scene({make_object("soup", static_cast<Index>(x_t0.size()), triangles)});
+  auto whole = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  whole->build(scene, BroadPhaseSettings{});
+  Candidates one;
+  whole->detect_ccd(x_t0, x_t1, one.vf, one.ee);
+  one.ccd = whole->stats();
+  whole->detect_static(x_t1, one.pairs);
+  ASSERT_GT(one.vf.size() + one.ee.size(), 1000u);
+
+  auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  chunked->build(scene, BroadPhaseSettings{});
+  chunked->set_chunk_rooms(one.ccd.triangle_pairs / 100 + 8, 16);
+  Candidates many;
+  chunked->detect_ccd(x_t0, x_t1, many.vf, many.ee);
+  EXPECT_GT(chunked->last_chunks(), 50u);
+  EXPECT_GT(chunked->last_feature_parts(), 100u);
+  EXPECT_EQ(many.vf, one.vf);
+  EXPECT_EQ(many.ee, one.ee);
+  expect_same_counts(one.ccd, chunked->stats(), "soup");
+  chunked->detect_static(x_t1, many.pairs);
+  EXPECT_EQ(many.pairs, one.pairs);
+}
+
+TEST_F(MemoryLimit, OneTriangleOverTheRoomOnClothBallIsAUsageError) {
+  const ClothBallStep step;
+  auto broad = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  broad->build(step.scene, BroadPhaseSettings{});
+  broad->set_chunk_rooms(1, 0);  // every triangle keeps more than one test with its neighbours
+  std::vector<VertexFaceCandidate> vf;
+  std::vector<EdgeEdgeCandidate> ee;
+  EXPECT_THROW(broad->detect_ccd(step.m92.positions, step.m93.positions, vf, ee), UsageError);
+  broad->set_chunk_rooms(0, 10);  // under the 15 candidates one pair may yield
+  EXPECT_THROW(broad->detect_ccd(step.m92.positions, step.m93.positions, vf, ee), UsageError);
+}
+
+/// The bytes the CUDA back end's buffers held at most over a scan of
+/// frame 92, step 92 -> 93, frame 93, and its events, under `limit` (0: none).
+struct LimitedRun {
+  std::vector<Event> events;
+  std::size_t peak_bytes = 0;
+};
+
+LimitedRun run_limited(const ClothBallStep& step, std::size_t limit) {
+  DeviceMemoryTracker& tracker = DeviceMemoryTracker::instance();
+  const std::size_t before = tracker.current_bytes();
+  tracker.reset_peak();
+  LimitedRun run;
+  {
+    auto gpu = make_cuda_backend();
+    BackendSettings settings;
+    settings.device_memory_bytes = limit;
+    gpu->bind(step.scene, settings);
+    std::vector<Event> frame92, collisions, frame93;
+    gpu->intersections(step.m92.positions, frame92);
+    gpu->collisions(step.m92.positions, step.m93.positions, collisions);
+    gpu->intersections(step.m93.positions, frame93);
+    // A second step: the plan of the first, the buffers given back or kept.
+    std::vector<Event> again;
+    gpu->collisions(step.m93.positions, step.m92.positions, again);
+    for (const auto* part : {&frame92, &collisions, &frame93, &again})
+      run.events.insert(run.events.end(), part->begin(), part->end());
+  }
+  run.peak_bytes = tracker.peak_bytes() - before;
+  return run;
+}
+
+TEST_F(MemoryLimit, BackEndOnClothBallUnderALimitGivesTheEventsOfTheUnlimitedRunAndOfTheCpu) {
+  const ClothBallStep step;
+  const LimitedRun unlimited = run_limited(step, 0);
+  ASSERT_GT(unlimited.events.size(), 100000u);
+
+  std::vector<Event> cpu_events;
+  {
+    auto cpu = make_cpu_backend();
+    cpu->bind(step.scene, BackendSettings{});
+    std::vector<Event> part;
+    cpu->intersections(step.m92.positions, cpu_events);
+    cpu->collisions(step.m92.positions, step.m93.positions, part);
+    cpu_events.insert(cpu_events.end(), part.begin(), part.end());
+    part.clear();
+    cpu->intersections(step.m93.positions, part);
+    cpu_events.insert(cpu_events.end(), part.begin(), part.end());
+    part.clear();
+    cpu->collisions(step.m93.positions, step.m92.positions, part);
+    cpu_events.insert(cpu_events.end(), part.begin(), part.end());
+  }
+  test::expect_same_events(cpu_events, unlimited.events, "unlimited against the CPU");
+
+  // Limits of a half, a quarter and an eighth of the unlimited run's peak:
+  // each either fits (same events, peak within the limit) or is refused with
+  // a UsageError; the half must fit.
+  int fitted = 0;
+  for (const std::size_t divisor : {2, 4, 8}) {
+    const std::size_t limit = unlimited.peak_bytes / divisor;
+    const std::string where = "limit " + std::to_string(limit) + " bytes (1/" + std::to_string(divisor) + ")";
+    try {
+      const LimitedRun limited = run_limited(step, limit);
+      ++fitted;
+      EXPECT_LE(limited.peak_bytes, limit) << where;
+      test::expect_same_events(unlimited.events, limited.events, where);
+    } catch (const UsageError& error) {
+      EXPECT_NE(std::string(error.what()).find("too small"), std::string::npos) << where << ": " << error.what();
+      EXPECT_NE(divisor, 2u) << where << ": " << error.what();
+    }
+  }
+  EXPECT_GE(fitted, 1);
+}
+
+TEST_F(MemoryLimit, LimitTooSmallForClothBallIsAUsageError) {
+  const ClothBallStep step;
+  {
+    auto gpu = make_cuda_backend();
+    BackendSettings settings;
+    settings.device_memory_bytes = 1 << 20;  // under the topology and two frames
+    try {
+      gpu->bind(step.scene, settings);
+      ADD_FAILURE() << "bind() accepted 1 MiB";
+    } catch (const UsageError& error) {
+      EXPECT_NE(std::string(error.what()).find("too small"), std::string::npos) << error.what();
+    }
+  }
+  {
+    auto gpu = make_cuda_backend();
+    BackendSettings settings;
+    settings.device_memory_bytes = 8 << 20;  // the topology and frames fit, the broad phase does not
+    gpu->bind(step.scene, settings);
+    std::vector<Event> events;
+    EXPECT_THROW(gpu->collisions(step.m92.positions, step.m93.positions, events), UsageError);
+  }
+}
+
+}  // namespace
+}  // namespace snag
