@@ -385,6 +385,9 @@ void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists,
       } else {
         todo.pop_front();
         const std::vector<RootRange> parts = split_range(range, histogram, bucket_width, key_room);
+        if (parts.size() == 1)  // the histogram disagrees with the count: never loop on it
+          throw CudaError("broad phase: a chunk of " + std::to_string(range.end - range.first) +
+                              " triangles could not be split", 0);
         todo.insert(todo.begin(), parts.begin(), parts.end());
       }
       continue;
