@@ -162,15 +162,19 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   stats_.seconds_subdivision = seconds_between(bounded, subdivided);
   stats_.seconds_registration = seconds_between(subdivided, registered);
 
+  // 5a. What the pair tests read of the leaves, in cell order. Under a tight
+  // budget (the stages so far hold over half of it), the leaves and the
+  // subdivision's and registration's scratch are given back now.
+  DeviceMemoryTracker::set_stage("broad phase: pairs");
+  order_registrations_on_device(b.subdivision.leaves.data(), b.cells, b.pairs, stream);
+  if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
+
   // The chunks' room: what the budget leaves beside the buffers the chunks do
-  // not bound (the registered leaves are sized just below, with the tests).
+  // not bound (the tests per cell are sized just below).
   std::size_t key_room = ~std::size_t{0};
   candidate_room_ = ~std::size_t{0};
   if (budget_ > 0) {
-    const std::size_t fixed = held_bytes() - chunk_bytes() +
-                              b.cells.leaves.size() * (sizeof(RegisteredLeaf) + 2 * sizeof(std::uint64_t) +
-                                                       2 * sizeof(std::uint32_t)) +
-                              (b.cells.cells + 1) * 3 * sizeof(std::uint64_t) +
+    const std::size_t fixed = held_bytes() - chunk_bytes() + (b.cells.cells + 1) * 3 * sizeof(std::uint64_t) +
                               (std::size_t{4} << 20);  // counters, histogram, sort scratch
     if (fixed >= budget_)
       throw UsageError("the device memory limit is too small for this scene: the broad phase holds " +
@@ -200,7 +204,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // 5. One test per thread; 6. sort + unique of root pairs, chunk by chunk.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   last_chunks_ = 0;
-  enumerate_pairs_on_device(b.subdivision.leaves.data(), b.cells, grid, b.bounds.triangles.data(), triangle_count,
+  enumerate_pairs_on_device(b.cells, grid, b.bounds.triangles.data(), triangle_count,
                             settings_.count_culled_duplicates, *plan_, b.pairs, stream, stats_,
                             [&](const TrianglePair* pairs, std::size_t count) {
                               ++last_chunks_;
@@ -366,12 +370,26 @@ std::size_t CudaBroadPhase::chunk_bytes() const {
   const DevicePairs& p = buffers_->pairs;
   const DeviceFeatures& f = buffers_->features;
   return p.kept.capacity_bytes() + p.sorted.capacity_bytes() + p.pairs.capacity_bytes() +
-         p.registered.capacity_bytes() + p.order_keys.capacity_bytes() + p.order_keys_spare.capacity_bytes() +
-         p.order_ids.capacity_bytes() + p.order_ids_spare.capacity_bytes() + p.cell_tests.capacity_bytes() +
-         p.first_test.capacity_bytes() + p.row_first.capacity_bytes() +
+         p.cell_tests.capacity_bytes() + p.first_test.capacity_bytes() + p.row_first.capacity_bytes() +
          f.vf_count.capacity_bytes() + f.ee_count.capacity_bytes() + f.vf_offset.capacity_bytes() +
          f.ee_offset.capacity_bytes() + f.vf_keys.capacity_bytes() + f.ee_keys.capacity_bytes() +
          f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes() + f.vf.capacity_bytes() + f.ee.capacity_bytes();
+}
+
+void CudaBroadPhase::release_stage_buffers() {
+  CudaBroadPhaseBuffers& b = *buffers_;
+  b.subdivision = DeviceSubdivision(stream_);
+  DeviceCellLists& c = b.cells;  // cell_ids and first stay: the tests read them
+  for (DeviceBuffer<std::uint64_t>* scratch :
+       {&c.block_count, &c.offset, &c.keys, &c.keys_sorted, &c.kept_keys, &c.run_length})
+    scratch->release();
+  for (DeviceBuffer<std::uint32_t>* scratch : {&c.values, &c.values_sorted, &c.leaves}) scratch->release();
+  c.keep.release();
+  c.temp.release();
+  b.pairs.order_keys.release();
+  b.pairs.order_keys_spare.release();
+  b.pairs.order_ids.release();
+  b.pairs.order_ids_spare.release();
 }
 
 void CudaBroadPhase::release_buffers() {

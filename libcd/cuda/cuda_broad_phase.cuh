@@ -116,6 +116,9 @@ class CudaBroadPhase final : public BroadPhase {
                                 const std::function<void(const TrianglePair*, std::size_t)>& visit);
   /// Bytes of the buffers whose size the chunks bound.
   std::size_t chunk_bytes() const;
+  /// Gives back the leaves and the subdivision's and registration's scratch
+  /// (once the pair tests' copy of the leaves is queued).
+  void release_stage_buffers();
 
   bool subdivide_;
   const Scene* scene_ = nullptr;

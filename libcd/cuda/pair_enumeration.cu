@@ -249,7 +249,34 @@ std::vector<RootRange> split_range(RootRange range, const std::vector<unsigned>&
 
 }  // namespace
 
-void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists, const GridSpec& grid,
+void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& lists, DevicePairs& p,
+                                   cudaStream_t stream) {
+  const std::size_t cells = lists.cells;
+  const std::size_t registrations = lists.leaves.size();
+  p.registered.resize(registrations);
+  if (registrations == 0) return;
+  p.order_keys.resize(registrations);
+  p.order_keys_spare.resize(registrations);
+  p.order_ids.resize(registrations);
+  p.order_ids_spare.resize(registrations);
+  registration_keys_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
+      leaves, lists.first.data(), cells, lists.leaves.data(), registrations, p.order_keys.data(), p.order_ids.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+  cub::DoubleBuffer<std::uint64_t> keys(p.order_keys.data(), p.order_keys_spare.data());
+  cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
+  const int end_bit = 32 + bits_for(cells > 0 ? cells - 1 : 0);
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, ids, registrations, 0, end_bit, stream));
+  ensure(p.temp, bytes);
+  bytes = p.temp.size();
+  SNAG_CUDA_CHECK(
+      cub::DeviceRadixSort::SortPairs(p.temp.data(), bytes, keys, ids, registrations, 0, end_bit, stream));
+  gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
+      leaves, ids.Current(), registrations, p.registered.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+}
+
+void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid,
                                const Dop18* triangle_dops, std::size_t triangle_count, bool count_culled,
                                PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit) {
@@ -262,32 +289,6 @@ void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists,
   p.cell_tests.resize(cells + 1);
   p.first_test.resize(cells + 1);
   p.row_first.resize(cells + 1);
-
-  // The registrations in cell order, each cell's by root triangle.
-  const std::size_t registrations = lists.leaves.size();
-  p.registered.resize(registrations);
-  if (registrations > 0) {
-    p.order_keys.resize(registrations);
-    p.order_keys_spare.resize(registrations);
-    p.order_ids.resize(registrations);
-    p.order_ids_spare.resize(registrations);
-    registration_keys_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-        leaves, lists.first.data(), cells, lists.leaves.data(), registrations, p.order_keys.data(),
-        p.order_ids.data());
-    SNAG_CUDA_CHECK_LAUNCH();
-    cub::DoubleBuffer<std::uint64_t> keys(p.order_keys.data(), p.order_keys_spare.data());
-    cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
-    const int end_bit = 32 + bits_for(cells > 0 ? cells - 1 : 0);
-    std::size_t bytes = 0;
-    SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, ids, registrations, 0, end_bit, stream));
-    ensure(p.temp, bytes);
-    bytes = p.temp.size();
-    SNAG_CUDA_CHECK(
-        cub::DeviceRadixSort::SortPairs(p.temp.data(), bytes, keys, ids, registrations, 0, end_bit, stream));
-    gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-        leaves, ids.Current(), registrations, p.registered.data());
-    SNAG_CUDA_CHECK_LAUNCH();
-  }
 
   // The tests of the cells whose smaller root lies in `range`, numbered
   // cell by cell (first_test); returns their count.

@@ -68,7 +68,15 @@ struct PairChunkPlan {
   std::vector<RootRange> ranges;
 };
 
-/// Runs every test of the registered cells and hands the unique triangle
+/// Copies the registered leaves into pairs.registered, cell by cell and each
+/// cell's by root triangle (stable), which is all the pair tests read of them:
+/// the leaves and the registration's scratch may be given back after it (in
+/// stream order). Throws CudaError.
+void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& lists, DevicePairs& pairs,
+                                   cudaStream_t stream);
+
+/// Runs every test of the registered cells (pairs.registered, from
+/// order_registrations_on_device) and hands the unique triangle
 /// pairs to `visit` chunk by chunk (see PairChunkPlan), each chunk's pairs
 /// ascending and the chunks in ascending order; the device array passed to
 /// visit is valid until it returns. Fills stats' test counters,
@@ -79,7 +87,7 @@ struct PairChunkPlan {
 /// stats.seconds_pairs (CUDA events, visit's time left out). Waits for the
 /// stream. Throws CudaError, UsageError.
 /// @param triangle_dops  #F device root swept DOPs; triangle_count = #F
-void enumerate_pairs_on_device(const Leaf* leaves, const DeviceCellLists& lists, const GridSpec& grid,
+void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid,
                                const Dop18* triangle_dops, std::size_t triangle_count, bool count_culled,
                                PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream, BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit);
