@@ -114,6 +114,10 @@ void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vect
   }
   const auto& triangles = scene_.triangles();
   const tbb::blocked_range<std::size_t> all_events(0, group.size(), kEventsPerTask);
+  // One face of each element of each event, kept so that the passes after
+  // this one read 8 bytes per event instead of the event.
+  event_first_face_.resize(group.size());
+  event_second_face_.resize(group.size());
   // Each face is claimed by the one thread that stamps it first, which makes
   // it a set of its own and lists it; every vertex keeps one of its faces.
   tbb::enumerable_thread_specific<std::vector<Index>> claimed, faces;
@@ -121,7 +125,10 @@ void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vect
     std::vector<Index>& mine = claimed.local();
     std::vector<Index>& event = faces.local();
     for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      event_faces(events[group[k]], event);
+      const Event& e = events[group[k]];
+      event_first_face_[k] = first_face(e);
+      event_second_face_[k] = second_face(e);
+      event_faces(e, event);
       for (Index f : event) {
         std::atomic<std::uint32_t>& stamp = face_stamp_[f];
         if (stamp.load(std::memory_order_relaxed) == stamp_ || stamp.exchange(stamp_) == stamp_) continue;
@@ -138,10 +145,7 @@ void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vect
   // The faces around a vertex, or on an edge, share that vertex: of an
   // event's faces, only one of each element's needs joining here.
   tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      const Event& e = events[group[k]];
-      face_sets_.unite(first_face(e), second_face(e));
-    }
+    for (std::size_t k = range.begin(); k < range.end(); ++k) face_sets_.unite(event_first_face_[k], event_second_face_[k]);
   });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touched_.size(), kEventsPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
@@ -157,15 +161,23 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
                           const std::vector<Vec3>& x, std::size_t frame, std::vector<RegionRecord>& regions,
                           std::vector<std::size_t>& region_of) {
   region_of.assign(events.size(), kNone);
-  using GroupKey = std::tuple<int, std::size_t, std::size_t>;
   std::map<GroupKey, Group> groups;
-  // Events of one group come in long runs: one map look-up per run.
+  // Each event's objects on all threads; then the events of one group, which
+  // come in long runs, with one map look-up per run.
+  event_key_.resize(events.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, events.size(), kEventsPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        if (!in_region[i]) continue;
+                        const auto [a, b] = event_objects(scene_, events[i]);
+                        event_key_[i] = {static_cast<int>(events[i].kind), a, b};
+                      }
+                    });
   GroupKey last_key{-1, 0, 0};
   Group* last_group = nullptr;
   for (std::size_t i = 0; i < events.size(); ++i) {
     if (!in_region[i]) continue;
-    const auto [a, b] = event_objects(scene_, events[i]);
-    const GroupKey key{static_cast<int>(events[i].kind), a, b};
+    const GroupKey& key = event_key_[i];
     if (key != last_key) {
       last_key = key;
       last_group = &groups[key];
@@ -184,7 +196,7 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group.events.size(), kEventsPerTask),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t k = range.begin(); k < range.end(); ++k)
-                          event_root_[k] = face_sets_.find(first_face(events[group.events[k]]));
+                          event_root_[k] = face_sets_.find(event_first_face_[k]);
                       });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touched_.size(), kEventsPerTask),
                       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -222,10 +234,11 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
     }
     // Faces in ascending order, so that each region's lists come sorted.
     const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
+    const Index end_a = scene_.triangle_offset(object_a + 1);
     for (std::size_t k = 0; k < touched_.size(); ++k) {
       RegionRecord& region = regions[region_of_root_[touched_root_[k]]];
       const Index f = touched_[k];
-      if (scene_.object_of_triangle(f) == object_a) {
+      if (f >= base_a && f < end_a) {
         region.faces_a.push_back(f - base_a);
       } else {
         region.faces_b.push_back(f - base_b);

@@ -51,6 +51,8 @@ class RegionBuilder {
              std::size_t frame, std::vector<RegionRecord>& regions, std::vector<std::size_t>& region_of);
 
  private:
+  using GroupKey = std::tuple<int, std::size_t, std::size_t>;  // kind, object a <= object b
+
   void event_faces(const Event& event, std::vector<Index>& faces) const;
   Index first_face(const Event& event) const;
   Index second_face(const Event& event) const;
@@ -68,7 +70,9 @@ class RegionBuilder {
   std::vector<std::size_t> region_of_root_;  // by face: set at the group's roots
   std::uint32_t stamp_ = 0;
   std::vector<Index> touched_, touched_root_;  // the group's faces, ascending, and their roots
-  std::vector<Index> event_root_;              // the root of each of the group's events
+  std::vector<GroupKey> event_key_;                           // the group of each event of the frame
+  std::vector<Index> event_first_face_, event_second_face_;  // a face of each element of the group's events
+  std::vector<Index> event_root_;                             // the root of each of the group's events
 };
 
 /// Gives regions their track ids frame after frame and says when tracks end.
