@@ -16,7 +16,7 @@ namespace snag {
 
 struct CpuBackendOptions {
   BroadPhaseMethod broad_phase = BroadPhaseMethod::kBoxGrid;  ///< for CCD and static detection
-  bool projection_filter = true;  ///< the 2D exact-sign filter before each static triangle test
+  bool projection_filter = true;  ///< the 2D exact-sign filter before the static test of neighbouring triangles
 };
 
 /// The CPU back end with `options`. The CUDA back end's counts are those of

@@ -312,7 +312,7 @@ TEST(TrianglesIntersectVsCgal, MatchesCgalRulesOnRandomSoupsWithSharedAndCoincid
             << filtered << ", predicates " << counters.calls << " (exact stage " << counters.exact << ")\n";
   EXPECT_GT(filtered, tested / 10);
   // Both early exits of the per-frame form ran (counts of both calls per pair).
-  EXPECT_GT(frame_counters.decided_by_filter, tested / 20);
+  EXPECT_GT(frame_counters.decided_by_filter, tested / 50);
   EXPECT_GT(frame_counters.decided_by_plane, tested / 20);
   EXPECT_GT(intersecting, tested / 10);
   EXPECT_LT(intersecting, tested);
