@@ -40,7 +40,7 @@ void SinkThread::run() {
     const auto start = Clock::now();
     std::exception_ptr error;
     try {
-      sink_.frame(frame);
+      arena_.execute([&] { sink_.frame(frame); });
     } catch (...) {
       error = std::current_exception();
     }

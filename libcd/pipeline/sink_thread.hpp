@@ -11,6 +11,8 @@
 #include <mutex>
 #include <thread>
 
+#include <tbb/task_arena.h>
+
 #include "libcd/pipeline/scan.hpp"
 
 namespace snag {
@@ -54,6 +56,11 @@ class SinkThread {
   std::exception_ptr error_;
   double sink_seconds_ = 0;  // under mutex_
   double wait_seconds_ = 0;  // the scan's thread only
+  // The sink's parallel work runs in an arena of its own: a thread of the
+  // scan waiting for its own tasks never picks up the sink's, and the sink's
+  // thread never picks up the back end's (whose tasks can be long), so that
+  // neither waits for the other's work.
+  tbb::task_arena arena_;
   std::thread thread_;       // last: started once everything above is set up
 };
 
