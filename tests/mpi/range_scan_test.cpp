@@ -96,8 +96,11 @@ TEST(SplitSteps, MergeCostShrinksTheEarlierRangesGeometrically) {
   }
 }
 
-// Copies a file into place in pieces of `piece` bytes, a piece a
-// millisecond, on a thread of its own: a part's writer for replay_part().
+// Copies a file into place in pieces of `piece` bytes on a thread of its
+// own, as a part's writer for replay_part() in lock-step with the reader:
+// the file is made once the reader has waited for it, and each next piece
+// written once the reader has waited again, so that the reader meets the
+// end of what is written at every piece's end (records cut anywhere).
 // `stop_at`: the copy ends there, as a writer that stopped short.
 class SlowCopy {
  public:
@@ -107,36 +110,48 @@ class SlowCopy {
     bytes_.assign(std::istreambuf_iterator<char>(in), {});
     bytes_.resize(std::min(bytes_.size(), stop_at));
     thread_ = std::thread([this, to, piece] {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));  // the reader comes first
+      std::size_t seen = 0;
+      // Until the reader waits again (or the copy is dropped); false when dropped.
+      auto reader_waited = [&] {
+        while (waits_ == seen && !dropped_) std::this_thread::sleep_for(std::chrono::microseconds(50));
+        seen = waits_;
+        return !dropped_;
+      };
+      if (!reader_waited()) return;
       std::ofstream out(to, std::ios::binary);
       for (std::size_t at = 0; at < bytes_.size(); at += piece) {
+        if (at > 0 && !reader_waited()) return;
         out.write(bytes_.data() + at, static_cast<std::streamsize>(std::min(piece, bytes_.size() - at)));
         out.flush();
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        ++pieces_;
       }
       out.close();
       finished_ = true;
     });
   }
-  ~SlowCopy() { thread_.join(); }
+  ~SlowCopy() {
+    dropped_ = true;
+    thread_.join();
+  }
   SlowCopy(const SlowCopy&) = delete;
   SlowCopy& operator=(const SlowCopy&) = delete;
 
   report::PartWait wait() {
     return [this] {
       const bool finished = finished_;  // before the pause: what was written by then is there
-      if (!finished) std::this_thread::sleep_for(std::chrono::microseconds(200));
       ++waits_;
+      if (!finished) std::this_thread::sleep_for(std::chrono::microseconds(100));
       return finished;
     };
   }
   std::size_t waits() const { return waits_; }
+  std::size_t pieces() const { return pieces_; }
 
  private:
   std::string bytes_;
   std::thread thread_;
-  std::atomic<bool> finished_{false};
-  std::atomic<std::size_t> waits_{0};
+  std::atomic<bool> finished_{false}, dropped_{false};
+  std::atomic<std::size_t> waits_{0}, pieces_{0};
 };
 
 std::string temporary_dir() {
@@ -215,7 +230,9 @@ class SplitScan : public ::testing::Test {
       if (following) {
         SlowCopy copy(whole_part, whole_part + "-following");
         part_stages = report::replay_part(whole_part + "-following", *source_, sink, {}, copy.wait()).stages_json;
-        EXPECT_GT(copy.waits(), 1u) << "the reader did not wait for the writer";
+        // Each piece was written after the reader met the end of the one before.
+        EXPECT_GT(copy.pieces(), 10u);
+        EXPECT_GE(copy.waits(), copy.pieces());
       } else {
         part_stages = report::replay_part(whole_part, *source_, sink).stages_json;
       }
@@ -299,7 +316,8 @@ TEST_F(SplitScan, PartFollowedToAnEarlyEndIsTruncated) {
       EXPECT_NE(std::string(error.what()).find(path + "-short"), std::string::npos) << error.what();
       EXPECT_NE(std::string(error.what()).find("truncated"), std::string::npos) << error.what();
     }
-    EXPECT_GT(copy.waits(), 1u) << "the reader did not wait for the writer";
+    EXPECT_GT(copy.pieces(), 10u);
+    EXPECT_GT(copy.waits(), copy.pieces()) << "the reader did not wait at the short end";
   }
   std::size_t waits = 0;
   try {
