@@ -174,13 +174,12 @@ SNAG_HD_INLINE bool segment_triangle(Vec3 a, Vec3 b, int side_a, int side_b, Vec
   return !(has_negative && has_positive);
 }
 
-/// Closed intersection of two non-degenerate triangles p and q with their
-/// projection axes.
-SNAG_HD_INLINE bool closed_triangles_intersect(const Vec3 p[3], int p_axis, const Vec3 q[3], int q_axis,
-                                               PredicateCounters* counters) {
-  int q_side[3], p_side[3];
-  for (int i = 0; i < 3; ++i) q_side[i] = orient3d(p[0], p[1], p[2], q[i], counters);
+/// closed_triangles_intersect given the sides of q's corners to p's plane
+/// (orient3d(p[0], p[1], p[2], q[i])), for a caller that has them already.
+SNAG_HD_INLINE bool closed_triangles_intersect_with_sides(const Vec3 p[3], int p_axis, const Vec3 q[3], int q_axis,
+                                                          const int q_side[3], PredicateCounters* counters) {
   if (q_side[0] * q_side[1] > 0 && q_side[1] * q_side[2] > 0) return false;
+  int p_side[3];
   for (int i = 0; i < 3; ++i) p_side[i] = orient3d(q[0], q[1], q[2], p[i], counters);
   if (p_side[0] * p_side[1] > 0 && p_side[1] * p_side[2] > 0) return false;
   for (int i = 0; i < 3; ++i) {
@@ -194,6 +193,15 @@ SNAG_HD_INLINE bool closed_triangles_intersect(const Vec3 p[3], int p_axis, cons
       return true;
   }
   return false;
+}
+
+/// Closed intersection of two non-degenerate triangles p and q with their
+/// projection axes.
+SNAG_HD_INLINE bool closed_triangles_intersect(const Vec3 p[3], int p_axis, const Vec3 q[3], int q_axis,
+                                               PredicateCounters* counters) {
+  int q_side[3];
+  for (int i = 0; i < 3; ++i) q_side[i] = orient3d(p[0], p[1], p[2], q[i], counters);
+  return closed_triangles_intersect_with_sides(p, p_axis, q, q_axis, q_side, counters);
 }
 
 /// Whether an edge line of the hull of v (nv = 2: a segment, 3: a triangle)
