@@ -117,6 +117,29 @@ TEST(SnagScanMpi, UnevenRangesForRankZerosMergeGiveTheSingleProcessReport) {
   unsetenv("SNAG_MPI_MERGE_COST");
 }
 
+// The merge cost set for rank 0 alone (as on several hosts, where mpirun
+// passes on no variable it is not told to): every rank splits as rank 0 does.
+TEST(SnagScanMpi, RankZerosMergeCostIsEveryRanks) {
+  const std::vector<std::string> arguments = {"--manifest", kSampleDir + "/scene.yaml", "-b", "cpu", "-j", "1",
+                                              "--frames", "16:36", "--max-events", "6000", "-q", "-r"};
+  TemporaryDirectory dir;
+  const ProcessResult one = run_process(SNAG_SCAN_EXE, with(arguments, {dir.path("one.jsonl")}));
+  ASSERT_TRUE(one.exit_code == 0 || one.exit_code == 1) << one.err;
+  allow_mpirun();
+  std::vector<std::string> launch = {"-q", "--oversubscribe", "-n", "1", "/usr/bin/env", "SNAG_MPI_MERGE_COST=0.5",
+                                     SNAG_SCAN_EXE};
+  launch = with(with(launch, arguments), {dir.path("3.jsonl"), ":", "-n", "2", "/usr/bin/env", "-u",
+                                          "SNAG_MPI_MERGE_COST", SNAG_SCAN_EXE});
+  launch = with(with(launch, arguments), {dir.path("3.jsonl")});
+  ProcessOptions limits;
+  limits.timeout_seconds = 120;
+  const ProcessResult run = run_process(MPIEXEC_EXE, launch, limits);
+  EXPECT_EQ(run.exit_code, one.exit_code) << run.err;
+  EXPECT_EQ(run.err, "");
+  EXPECT_EQ(without_process_measures(read_file(dir.path("3.jsonl"))),
+            without_process_measures(read_file(dir.path("one.jsonl"))));
+}
+
 TEST(SnagScanMpi, BadMergeCostIsAUsageError) {
   setenv("SNAG_MPI_MERGE_COST", "1.5", 1);
   TemporaryDirectory dir;

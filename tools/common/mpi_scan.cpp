@@ -267,12 +267,18 @@ void Run::stop_everyone() {
 std::vector<StepRange> Run::split(std::size_t frame_count, const std::string& backend) const {
   // Rank 0's time to merge a frame of a part over a rank's time to scan it,
   // measured on the long cloth (scripts/mpi-scaling.sh; man snag-scan(1)).
+  // Rank 0's setting is every rank's: ranks that split differently would
+  // leave steps out or scan them twice (mpirun need not pass the variable on).
+  const char* set_here = rank_ == 0 ? std::getenv("SNAG_MPI_MERGE_COST") : nullptr;
+  std::string given = set_here ? std::string("=") + set_here : std::string();
+  broadcast(given);
   double merge_cost = backend == "cuda" ? kCudaMergeCost : kCpuMergeCost;
-  if (const char* given = std::getenv("SNAG_MPI_MERGE_COST")) {
+  if (!given.empty()) {
+    const char* text = given.c_str() + 1;
     char* end = nullptr;
-    merge_cost = std::strtod(given, &end);
-    if (end == given || *end != '\0' || !(merge_cost >= 0 && merge_cost <= 0.9)) {
-      throw UsageError(std::string("SNAG_MPI_MERGE_COST: expected a number from 0 to 0.9, not '") + given + "'");
+    merge_cost = std::strtod(text, &end);
+    if (end == text || *end != '\0' || !(merge_cost >= 0 && merge_cost <= 0.9)) {
+      throw UsageError(std::string("SNAG_MPI_MERGE_COST: expected a number from 0 to 0.9, not '") + text + "'");
     }
   }
   return split_steps(frame_count, static_cast<std::size_t>(size_), merge_cost);

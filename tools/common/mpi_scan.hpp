@@ -58,7 +58,8 @@ class Run {
 
   /// The ranges of a scan of `frame_count` frames over this run's ranks:
   /// split_steps() at rank 0's merge cost on back end `backend` (its name),
-  /// SNAG_MPI_MERGE_COST when set (a number in [0, 0.9]; else UsageError),
+  /// SNAG_MPI_MERGE_COST when set where rank 0 runs (a number in [0, 0.9];
+  /// else UsageError; rank 0's value is every rank's), a collective call,
   /// else the cost measured on that back end (man snag-scan(1)).
   std::vector<StepRange> split(std::size_t frame_count, const std::string& backend) const;
 
