@@ -32,6 +32,11 @@ float float_at_least(double x) {
 /// order) do not depend on the thread count.
 constexpr std::size_t kBlock = 256;
 
+/// Below this many triangles the grid's arrays stay in cache in any order,
+/// and the spatial query order would cost more than it saves (the samples'
+/// 2,024 faces: about a tenth slower with it).
+constexpr std::size_t kSpatialQueriesFrom = 16384;
+
 
 }  // namespace
 
@@ -159,10 +164,43 @@ void BoxGridBroadPhase::register_boxes() {
       *place++ = static_cast<std::uint32_t>(slot - cell_first_[c]);
     });
   }
+  choose_query_order();
   stats_.cells_used = used;
   stats_.registrations = registrations;
   stats_.home_registrations = n;
   stats_.phantom_registrations = registrations - n;
+}
+
+void BoxGridBroadPhase::choose_query_order() {
+  const std::size_t n = dops_->size();
+  const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
+  // Whether the triangle order is spatial already: how many triangles have
+  // their box's low corner within one cell of the previous one's, along
+  // every axis: 88-99% in the samples and the Blender cloths, where the
+  // query order gained nothing, 64% in cloth-ball's, where it saved about a
+  // tenth of the pair stage.
+  std::size_t near_previous = 0;
+  for (std::size_t t = 1; t < n; ++t) {
+    bool near = true;
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t step = std::int64_t(cell_lo_[a][t]) - std::int64_t(cell_lo_[a][t - 1]);
+      near = near && step >= -1 && step <= 1;
+    }
+    near_previous += near;
+  }
+  spatial_queries_ = n > kSpatialQueriesFrom && 4 * near_previous < 3 * n;
+  if (!spatial_queries_) return;
+  // The query order: triangles by home cell (their box's lowest), cells in
+  // grid order, again a counting sort.
+  home_first_.assign(cells + 1, 0);
+  auto home_cell = [&](std::size_t t) {
+    return std::size_t(cell_lo_[0][t]) +
+           std::size_t(dims_[0]) * (std::size_t(cell_lo_[1][t]) + std::size_t(dims_[1]) * cell_lo_[2][t]);
+  };
+  for (std::size_t t = 0; t < n; ++t) ++home_first_[home_cell(t) + 1];
+  for (std::size_t c = 0; c < cells; ++c) home_first_[c + 1] += home_first_[c];
+  query_order_.resize(n);
+  for (std::size_t t = 0; t < n; ++t) query_order_[home_first_[home_cell(t)]++] = static_cast<Index>(t);
 }
 
 void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
@@ -188,14 +226,19 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
   const std::uint32_t *cell_hi_x = cell_hi_[0].data(), *cell_hi_y = cell_hi_[1].data(), *cell_hi_z = cell_hi_[2].data();
   const std::uint32_t* place_in_cell = place_in_cell_.data();
   const std::uint64_t* first_registration = first_registration_.data();
+  const Index* query_order = spatial_queries_ ? query_order_.data() : nullptr;
+  if (spatial_queries_) {
+    partner_count_.resize(n);
+    run_start_.resize(n);
+  }
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
     std::vector<TrianglePair>& out = block_pairs_[block];
     out.clear();
     std::vector<Index>& candidates = block_candidates_[block];
     std::size_t tests = 0, culled = 0;
     const std::size_t end = std::min(n, (block + 1) * kBlock);
-    for (std::size_t ta = block * kBlock; ta < end; ++ta) {
-      const Index a = static_cast<Index>(ta);
+    for (std::size_t q = block * kBlock; q < end; ++q) {
+      const Index a = query_order ? query_order[q] : static_cast<Index>(q);
       const FloatBox box = boxes_[a];
       const float lo_x = box.lo[0], lo_y = box.lo[1], lo_z = box.lo[2];
       const float hi_x = box.hi[0], hi_y = box.hi[1], hi_z = box.hi[2];
@@ -250,19 +293,28 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
           ++culled;
       }
       std::sort(out.begin() + static_cast<std::ptrdiff_t>(first_out), out.end());
+      if (query_order) {
+        run_start_[a] = first_out;
+        partner_count_[a] = static_cast<std::uint32_t>(out.size() - first_out);
+      }
     }
     block_tests_[block] = tests;
     block_culled_[block] = culled;
   });
-  std::size_t total = 0;
   for (std::size_t b = 0; b < blocks; ++b) {
-    total += block_pairs_[b].size();
     stats_.tests += block_tests_[b];
     stats_.culled_by_dop += block_culled_[b];
   }
-  pairs.clear();
-  pairs.reserve(total);
-  for (const auto& block : block_pairs_) pairs.insert(pairs.end(), block.begin(), block.end());
+  if (!spatial_queries_) {
+    // The blocks hold the triangles in order: concatenated, the output is sorted.
+    std::size_t total = 0;
+    for (const auto& block : block_pairs_) total += block.size();
+    pairs.clear();
+    pairs.reserve(total);
+    for (const auto& block : block_pairs_) pairs.insert(pairs.end(), block.begin(), block.end());
+  } else {
+    put_back_in_triangle_order(pairs);
+  }
   stats_.tests_after_control_bits = stats_.tests;
   stats_.triangle_pairs = pairs.size();
   stats_.leaf_triangles = n;
@@ -271,7 +323,29 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
                         n * (6 * sizeof(std::uint32_t) + sizeof(std::uint64_t)) +
                         members_.capacity() * sizeof(Member) + place_in_cell_.capacity() * sizeof(std::uint32_t) +
                         boxes_.capacity() * sizeof(FloatBox) +
+                        query_order_.capacity() * sizeof(Index) + home_first_.capacity() * sizeof(std::uint64_t) +
+                        partner_count_.capacity() * sizeof(std::uint32_t) +
+                        run_start_.capacity() * sizeof(std::size_t) +
+                        first_pair_.capacity() * sizeof(std::uint64_t) +
                         pairs.capacity() * sizeof(TrianglePair);
+}
+
+void BoxGridBroadPhase::put_back_in_triangle_order(std::vector<TrianglePair>& pairs) {
+  // Each a's run goes to its place in triangle order: the output is sorted,
+  // whatever the query order and the thread count.
+  const std::size_t n = query_order_.size();
+  first_pair_.resize(n + 1);
+  first_pair_[0] = 0;
+  for (std::size_t a = 0; a < n; ++a) first_pair_[a + 1] = first_pair_[a] + partner_count_[a];
+  pairs.resize(first_pair_[n]);
+  tbb::parallel_for(std::size_t(0), block_pairs_.size(), [&](std::size_t block) {
+    const TrianglePair* out = block_pairs_[block].data();
+    const std::size_t end = std::min(n, (block + 1) * kBlock);
+    for (std::size_t q = block * kBlock; q < end; ++q) {
+      const Index a = query_order_[q];
+      std::copy_n(out + run_start_[a], partner_count_[a], pairs.data() + first_pair_[a]);
+    }
+  });
 }
 
 void BoxGridBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,

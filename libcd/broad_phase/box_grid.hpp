@@ -9,7 +9,10 @@
 //      whether the cell is the box's lowest along each axis, so that a cell's
 //      scan streams 32 bytes per triangle and needs nothing else; each
 //      registration's place in its cell is kept;
-//   3. for each triangle a, in parallel over fixed blocks of triangles, the
+//   3. for each triangle a, in parallel over fixed blocks of triangles (in
+//      their own order, or, for a large mesh whose order is not spatial, in
+//      the order of their box's lowest cell, so that queries one after
+//      another read the same cells and DOPs from cache), the
 //      cells of its box are scanned from a's own place on (so only triangles
 //      b > a are read, half of a cell on average), without branches, for
 //      boxes that overlap a's, keeping the pair only in the cell that holds
@@ -17,7 +20,9 @@
 //      without a sort and unique); then the 18-DOPs of those are fetched
 //      together (prefetches) and tested;
 //   4. a's partners are sorted (a handful) and the blocks concatenated in
-//      order, so the output is sorted and the same for every thread count.
+//      order (or, in the spatial order, each a's run copied to its place in
+//      triangle order), so the output is sorted and the same for every
+//      thread count.
 // The cell size is the mean box extent (at 1.5 times it, static detection of
 // cloth 100k took about a tenth longer on one thread), grown until the grid has at
 // most 4·#F + 64 cells and at most 16·#F registrations, so memory stays
@@ -65,6 +70,12 @@ class BoxGridBroadPhase : public BroadPhase {
   /// Registers every triangle in the cells of its box (a stable counting
   /// sort by cell) and notes each registration's place in its cell.
   void register_boxes();
+  /// Decides whether to query the triangles in a spatial order
+  /// (spatial_queries_) and, if so, sorts them into it (query_order_).
+  void choose_query_order();
+  /// The pairs of the block outputs, found in the spatial query order, into
+  /// `pairs` sorted.
+  void put_back_in_triangle_order(std::vector<TrianglePair>& pairs);
 
   const Scene* scene_ = nullptr;
   BroadPhaseSettings settings_;
@@ -101,7 +112,18 @@ class BoxGridBroadPhase : public BroadPhase {
   /// Per registration in triangle order (first_registration_[t] + the
   /// cell's rank in t's box, x fastest): its place within its cell.
   std::vector<std::uint32_t> place_in_cell_;
-  // Output blocks, one per fixed range of triangles.
+  /// Whether the triangles are queried in query_order_ rather than in their
+  /// own order: only when there are many and their order is not spatial.
+  bool spatial_queries_ = false;
+  /// #F, the triangles in the order they are queried: by the cell of their
+  /// box's low corner, so that queries one after another read the same
+  /// cells and DOPs from cache in a mesh whose triangle order is not spatial.
+  std::vector<Index> query_order_;
+  std::vector<std::uint64_t> home_first_;  ///< #cells + 1, the query order's counting sort
+  std::vector<std::uint32_t> partner_count_;  ///< #F: a's pairs
+  std::vector<std::size_t> run_start_;        ///< #F: where a's pairs start in its block's output
+  std::vector<std::uint64_t> first_pair_;   ///< #F + 1: where a's pairs start in the output
+  // Output blocks, one per fixed range of the query order.
   std::vector<std::vector<TrianglePair>> block_pairs_;
   std::vector<std::vector<Index>> block_candidates_;  ///< per block: a triangle's boxes that overlap, before the DOPs
   std::vector<std::size_t> block_tests_, block_culled_;

@@ -323,20 +323,32 @@ TEST(BoxGrid, OneHugeTriangleAmongTinyOnesKeepsTheGridBounded) {
   expect_box_grid_equals_brute_force(soup, {}, "one huge triangle");
 }
 
-TEST(BoxGrid, ResultsDoNotDependOnThreadCountAndReuseAcrossFrames) {
-  const Soup soup = random_soup(8, 400, true);
+// Box grids a (one thread) and b (two), built on soup: the same static pairs
+// on both frames, the same CCD sets and the same number of box tests.
+void expect_same_for_one_and_two_threads(const Soup& soup, BoxGridBroadPhase& a, BoxGridBroadPhase& b) {
   BroadPhaseSettings one, two;
   one.threads = 1;
   two.threads = 2;
-  BoxGridBroadPhase a, b;
   a.build(soup.scene, one);
   b.build(soup.scene, two);
+  for (const std::vector<Vec3>* frame : {&soup.x_t0, &soup.x_t1}) {
+    std::vector<TrianglePair> pa, pb;
+    a.detect_static(*frame, pa);
+    b.detect_static(*frame, pb);
+    EXPECT_TRUE(pa == pb);
+  }
   CcdSets sa, sb;
   a.detect_ccd(soup.x_t0, soup.x_t1, sa.vf, sa.ee);
   b.detect_ccd(soup.x_t0, soup.x_t1, sb.vf, sb.ee);
   EXPECT_TRUE(sa.vf == sb.vf);
   EXPECT_TRUE(sa.ee == sb.ee);
   EXPECT_EQ(a.stats().tests, b.stats().tests);
+}
+
+TEST(BoxGrid, ResultsDoNotDependOnThreadCountAndReuseAcrossFrames) {
+  const Soup soup = random_soup(8, 400, true);
+  BoxGridBroadPhase a, b;
+  expect_same_for_one_and_two_threads(soup, a, b);
   // The same instance on the step's end frame, then again on its start: the
   // arrays kept from the last detection must not leak into the next.
   std::vector<TrianglePair> first, end_frame, again;
@@ -350,6 +362,28 @@ TEST(BoxGrid, ResultsDoNotDependOnThreadCountAndReuseAcrossFrames) {
   EXPECT_TRUE(first == again);
   EXPECT_TRUE(end_frame == fresh_end);
   EXPECT_FALSE(first == end_frame) << "the two frames should differ";
+}
+
+// Enough small triangles in random order that the grid queries them in its
+// spatial order (over 16,384, few near their predecessor): the pairs still
+// equal brute force's, sorted, for every thread count and frame.
+TEST(BoxGrid, SpatialQueryOrderGivesBruteForceSetsForEveryThreadCount) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  auto jitter = [&](double size) { return Vec3{size * u(rng), size * u(rng), size * u(rng)}; };
+  Soup soup;
+  std::vector<Triangle> shuffled;
+  for (Index k = 0; k < 20000; ++k) {
+    const Vec3 c = Vec3{15, 15, 15} + jitter(30);
+    const double size = u(rng) < 0.4 ? 0.4 : 2.0;
+    soup.x_t0.insert(soup.x_t0.end(), {c, c + jitter(size), c + jitter(size)});
+    shuffled.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+  }
+  for (const Vec3& p : soup.x_t0) soup.x_t1.push_back(p + jitter(0.2));
+  soup.scene = Scene({make_object("shuffled", static_cast<Index>(soup.x_t0.size()), shuffled)});
+  expect_box_grid_equals_brute_force(soup, {}, "shuffled soup");
+  BoxGridBroadPhase a, b;
+  expect_same_for_one_and_two_threads(soup, a, b);
 }
 
 TEST(BoxGrid, RejectsPositionsOfTheWrongSize) {
