@@ -75,15 +75,17 @@ def main():
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
 
-    rows = []
-    if args.baseline:
-        rows.append(measure(args, "baseline", args.baseline, "default"))
-    for limit in args.limits.split(","):
-        rows.append(measure(args, f"limit_{limit}", args.scan, limit))
-    reference = rows[0].get("digest")
+    # Each row is printed as soon as it is measured (a run cut short keeps what it printed).
+    configurations = [("baseline", args.baseline, "default")] if args.baseline else []
+    configurations += [(f"limit_{limit}", args.scan, limit) for limit in args.limits.split(",")]
     print(f"{'run':18} {'limit':>8} {'ms/step':>9} {'spread':>17} {'device MiB':>11} {'buffers MiB':>12} "
-          f"{'events':>9}  same events as {rows[0]['label']}")
-    for r in rows:
+          f"{'events':>9}  same events as {configurations[0][0]}", flush=True)
+    rows, reference = [], None
+    for label, exe, limit in configurations:
+        r = measure(args, label, exe, limit)
+        rows.append(r)
+        if reference is None:
+            reference = r.get("digest")
         r["same_events"] = r.get("digest") == reference
         if "failed" in r:
             print(f"{r['label']:18} {r['limit']:>8} failed: {r['failed']}")
@@ -91,7 +93,7 @@ def main():
         device = f"{r['device_peak_mib']:.0f}" if r["device_peak_mib"] is not None else "-"
         print(f"{r['label']:18} {r['limit']:>8} {r['ms_per_step']:9.1f} "
               f"{r['spread_ms'][0]:8.1f}-{r['spread_ms'][1]:<8.1f} {device:>11} {r['tracker_peak_mib']:12.0f} "
-              f"{r['events']:9d}  {'yes' if r['same_events'] else 'NO'}")
+              f"{r['events']:9d}  {'yes' if r['same_events'] else 'NO'}", flush=True)
 
     # A limit far too small: exit status 2 and one line.
     small = subprocess.run([args.scan, "--sequence", args.t0, args.t1, "-b", "cuda", "-q", "--device-memory", "1M",
