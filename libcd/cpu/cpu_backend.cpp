@@ -70,25 +70,12 @@ class CpuBackend final : public Backend {
       static_broad_->detect_static(x, pairs_);
       stats_.static_broad = static_broad_->stats();
       const auto start = std::chrono::steady_clock::now();
-      const auto& triangles = scene_->triangles();
-      PredicateCounters axes_counters;
-      compute_triangle_axes(triangles, x, axes_, axes_counters);
       hit_.assign(pairs_.size(), 0);
-      tbb::combinable<StaticTestCounters> counters;
-      const bool filter = options_.projection_filter;
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 1024), [&](const auto& range) {
-        StaticTestCounters& local = counters.local();
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          prefetch_pair_data(triangles, x, pairs_, i);
-          hit_[i] = frame_triangles_intersect(triangles, x, axes_, pairs_[i], filter, local);
-        }
-      });
-      stats_.narrow.predicate_calls += axes_counters.calls;
-      stats_.narrow.predicate_exact += axes_counters.exact;
-      counters.combine_each([&](const StaticTestCounters& local) {
-        stats_.narrow.predicate_calls += local.filter.calls + local.test.calls;
-        stats_.narrow.predicate_exact += local.filter.exact + local.test.exact;
-      });
+      if (options_.frame_static_test) {
+        test_pairs_by_frame(x);
+      } else {
+        test_pairs_one_by_one(x);
+      }
       stats_.narrow.triangle_tests = pairs_.size();
       intersecting_.clear();
       for (std::size_t i = 0; i < pairs_.size(); ++i) {
@@ -103,6 +90,49 @@ class CpuBackend final : public Backend {
   }
 
   const PipelineStats& stats() const override { return stats_; }
+
+ private:
+  // The static test by frame (CpuBackendOptions::frame_static_test): axes
+  // once per triangle, then each pair on all cores, answers kept by index.
+  void test_pairs_by_frame(const std::vector<Vec3>& x) {
+    const auto& triangles = scene_->triangles();
+    PredicateCounters axes_counters;
+    compute_triangle_axes(triangles, x, axes_, axes_counters);
+    tbb::combinable<StaticTestCounters> counters;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 1024), [&](const auto& range) {
+      StaticTestCounters& local = counters.local();
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        prefetch_pair_data(triangles, x, pairs_, i);
+        hit_[i] = frame_triangles_intersect(triangles, x, axes_, pairs_[i], true, local);
+      }
+    });
+    stats_.narrow.predicate_calls += axes_counters.calls;
+    stats_.narrow.predicate_exact += axes_counters.exact;
+    counters.combine_each([&](const StaticTestCounters& local) {
+      stats_.narrow.predicate_calls += local.plane.calls + local.filter.calls + local.test.calls;
+      stats_.narrow.predicate_exact += local.plane.exact + local.filter.exact + local.test.exact;
+    });
+  }
+
+  // The CUDA back end's static test (its narrow phase's kernel), pair by pair.
+  void test_pairs_one_by_one(const std::vector<Vec3>& x) {
+    const auto& triangles = scene_->triangles();
+    tbb::combinable<PredicateCounters> counters;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 1024), [&](const auto& range) {
+      PredicateCounters& local = counters.local();
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const Triangle& ta = triangles[pairs_[i].a];
+        const Triangle& tb = triangles[pairs_[i].b];
+        const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
+        const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
+        hit_[i] = triangles_intersect(a, ta.data(), b, tb.data(), &local) ? 1 : 0;
+      }
+    });
+    counters.combine_each([&](const PredicateCounters& local) {
+      stats_.narrow.predicate_calls += local.calls;
+      stats_.narrow.predicate_exact += local.exact;
+    });
+  }
 
  private:
   // Tests every candidate on all cores (answers kept by index, so the order

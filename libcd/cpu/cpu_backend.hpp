@@ -16,7 +16,12 @@ namespace snag {
 
 struct CpuBackendOptions {
   BroadPhaseMethod broad_phase = BroadPhaseMethod::kBoxGrid;  ///< for CCD and static detection
-  bool projection_filter = true;  ///< the 2D exact-sign filter before the static test of neighbouring triangles
+  /// The static test by frame: each triangle's projection axes once per
+  /// frame, the plane-side rejection for triangles that share no vertex and
+  /// the 2D exact-sign filter for neighbours, before the exact-sign test.
+  /// false: the CUDA back end's test, triangles_intersect pair by pair (the
+  /// same answers; its predicate counts).
+  bool frame_static_test = true;
 };
 
 /// The CPU back end with `options`. The CUDA back end's counts are those of

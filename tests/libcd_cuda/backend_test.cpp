@@ -33,9 +33,9 @@ using test::expect_same_counts;
 using test::expect_same_events;
 
 /// The CPU back end doing the CUDA back end's work: the VSS grid for both
-/// modes and no 2D filter before the static test, so that the counts match
-/// too. The default CPU back end (box grid, filter) gives the same events
-/// with other counts; SameScanOfTheSampleCache checks it as well.
+/// modes and the static test pair by pair, so that the counts match too.
+/// The default CPU back end (box grid, the static test by frame) gives the
+/// same events with other counts; SameScanOfTheSampleCache checks it as well.
 std::unique_ptr<Backend> make_cpu_backend_counting_like_cuda() {
   return make_cpu_backend(CpuBackendOptions{BroadPhaseMethod::kVirtualSubdivisionGrid, false});
 }

@@ -28,7 +28,7 @@ void expect_same_events(const Scene& scene, const std::vector<Vec3>& x_t0, const
                         const std::string& what, std::size_t& collisions, std::size_t& intersections) {
   CpuBackendOptions gpu_like;
   gpu_like.broad_phase = BroadPhaseMethod::kVirtualSubdivisionGrid;
-  gpu_like.projection_filter = false;
+  gpu_like.frame_static_test = false;
   std::vector<std::vector<Event>> ccd, dcd;
   for (int k = 0; k < 3; ++k) {
     auto backend = make_cpu_backend(k == 2 ? gpu_like : CpuBackendOptions{});
