@@ -134,7 +134,6 @@ class CpuBackend final : public Backend {
     });
   }
 
- private:
   // Tests every candidate on all cores (answers kept by index, so the order
   // does not depend on the thread schedule), then counts, certifies and emits
   // as every back end does (append_collision_events).
