@@ -12,6 +12,8 @@ std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseMethod method) {
     case BroadPhaseMethod::kLargestTriangleGrid: return std::make_unique<VirtualSubdivisionGrid>(false);
     case BroadPhaseMethod::kBruteForce: return std::make_unique<BruteForceBroadPhase>();
     case BroadPhaseMethod::kBoxGrid: return std::make_unique<BoxGridBroadPhase>();
+    case BroadPhaseMethod::kAdaptiveGrid:
+      return std::make_unique<VirtualSubdivisionGrid>(true, VirtualSubdivisionGrid::Cells::kAdaptive);
   }
   return nullptr;
 }

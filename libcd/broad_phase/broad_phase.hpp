@@ -25,6 +25,11 @@ struct BroadPhaseSettings {
   /// tests), so it is for benchmarks of the chapter's duplicate-test claim,
   /// not for production runs.
   bool count_culled_duplicates = false;
+  /// The adaptive grid (kAdaptiveGrid, grid/adaptive_cells.hpp): a cell with
+  /// more registrations than adaptive_cell_limit (≥ 2) is split into 2×2×2
+  /// children, at most adaptive_max_depth ([0, 8]) levels below the grid.
+  std::size_t adaptive_cell_limit = 64;
+  int adaptive_max_depth = 4;
 };
 
 /// Counts and times of one detection. The virtual subdivision chapter's
@@ -34,6 +39,8 @@ struct BroadPhaseStats {
   double cell_size = 0;
   int grid_dims[3] = {0, 0, 0};
   std::size_t cells_used = 0;
+  std::size_t cells_subdivided = 0;     ///< adaptive grid: crowded cells split into children
+  int deepest_level = 0;                ///< adaptive grid: deepest level below the grid with a registration
   // virtual subdivision
   std::size_t root_triangles = 0;
   std::size_t triangles_subdivided = 0;  ///< Loop splits, all levels
@@ -96,6 +103,7 @@ enum class BroadPhaseMethod {
   kLargestTriangleGrid,     ///< Grand's grid, cell fits the largest triangle, no subdivision
   kBruteForce,              ///< all triangle pairs (brute_force.hpp)
   kBoxGrid,                 ///< the CPU's grid of triangle boxes, queried triangle by triangle (box_grid.hpp)
+  kAdaptiveGrid,            ///< the VSS grid with crowded cells subdivided (grid/adaptive_cells.hpp); CPU only
 };
 
 std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseMethod method);

@@ -11,6 +11,7 @@
 #include "libcd/broad_phase/broad_phase_support.hpp"
 #include "libcd/broad_phase/feature_stage.hpp"
 #include "libcd/core/error.hpp"
+#include "libcd/grid/adaptive_cells.hpp"
 #include "libcd/grid/cell_registration.hpp"
 #include "libcd/grid/cell_size.hpp"
 #include "libcd/grid/control_bits.hpp"
@@ -29,16 +30,201 @@ struct PairCounts {
 
 }  // namespace
 
+/// What the pair tests leave for step 6: per chunk of work items, the keys of
+/// the root pairs kept and (when counted) culled, and the counters.
+struct VirtualSubdivisionGrid::PairTests {
+  std::vector<std::vector<std::uint64_t>> kept, culled;
+  std::vector<PairCounts> counts;
+  std::size_t memory_bytes = 0;  ///< of the cell lists the tests read
+  double seconds = 0;            ///< of step 5
+};
+
+namespace {
+
+/// Runs one test per work item, chunk by chunk in parallel. first_test
+/// (#cells+1) is the prefix sum of the tests of each cell; cell c's tests are
+/// its pairs (i, j), i < j < members(c), numbered row by row, in rows
+/// i < rows(c) (grid/pair_index.hpp). test(c, i, j, counts, kept, culled)
+/// runs one; the chunks' keys come back in work-item order.
+template <class Members, class Rows, class Test>
+void run_work_items(const std::vector<std::uint64_t>& first_test, Members members, Rows rows, Test test,
+                    std::vector<std::vector<std::uint64_t>>& chunk_kept,
+                    std::vector<std::vector<std::uint64_t>>& chunk_culled, std::vector<PairCounts>& chunk_counts) {
+  const std::size_t cells = first_test.size() - 1;
+  const std::uint64_t tests = first_test[cells];
+  constexpr std::uint64_t kChunk = 1 << 16;
+  const std::size_t chunks = static_cast<std::size_t>((tests + kChunk - 1) / kChunk);
+  chunk_kept.assign(chunks, {});
+  chunk_culled.assign(chunks, {});
+  chunk_counts.assign(chunks, {});
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
+    const std::uint64_t begin = chunk * kChunk, end = std::min<std::uint64_t>(tests, begin + kChunk);
+    // Work item w -> (cell, i, j): the binary search and inversion of
+    // grid/pair_index.hpp for the chunk's first item, then stepping, which
+    // gives the same mapping item by item.
+    std::uint64_t c = cell_of_work_item(first_test.data(), cells, begin), i = 0, j = 0;
+    std::uint64_t n = members(c), last_row = rows(c);
+    pair_from_index(n, begin - first_test[c], i, j);
+    for (std::uint64_t w = begin; w < end; ++w) {
+      test(c, i, j, chunk_counts[chunk], chunk_kept[chunk], chunk_culled[chunk]);
+      // Next work item.
+      if (++j == n) {
+        ++i;
+        j = i + 1;
+        if (i >= last_row || j >= n) {
+          do { ++c; } while (c < cells && first_test[c + 1] == first_test[c]);
+          if (c < cells) {
+            n = members(c);
+            last_row = rows(c);
+            i = 0;
+            j = 1;
+          }
+        }
+      }
+    }
+  });
+}
+
+}  // namespace
+
 void VirtualSubdivisionGrid::build(const Scene& scene, const BroadPhaseSettings& settings) {
   if (!(settings.lambda > 1.0)) throw UsageError("broad phase: lambda must be greater than 1");
   if (!(settings.thickness >= 0.0)) throw UsageError("broad phase: thickness must be >= 0");
   if (settings.max_subdivision_levels < 0 || settings.max_subdivision_levels > 30 || settings.max_time_halvings < 0 ||
       settings.max_time_halvings > 30)
     throw UsageError("broad phase: safety limits must lie in [0, 30]");
+  if (cells_ == Cells::kAdaptive &&
+      (settings.adaptive_cell_limit < 2 || settings.adaptive_max_depth < 0 ||
+       settings.adaptive_max_depth > kMaxAdaptiveDepth))
+    throw UsageError("broad phase: the adaptive grid needs a cell limit >= 2 and a depth in [0, 8]");
   scene_ = &scene;
   settings_ = settings;
   tbb::task_arena arena(arena_threads(settings.threads));
   arena.execute([&] { reps_ = assign_representative_triangles(scene); });
+}
+
+VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
+  // 4. Registration, one sort, one scan.
+  auto t = Clock::now();
+  RegistrationCounts reg;
+  const CellLists lists = register_leaves(leaves_, grid_, reg);
+  stats_.registrations = reg.registrations;
+  stats_.home_registrations = reg.home;
+  stats_.phantom_registrations = reg.phantom;
+  stats_.duplicate_registrations_removed = reg.duplicates_removed;
+  stats_.cells_used = lists.cell_ids.size();
+  stats_.seconds_registration = seconds_since(t);
+
+  // 5. One test per work item: prefix sums of per-cell pair counts.
+  t = Clock::now();
+  const std::size_t cells = lists.cell_ids.size();
+  std::vector<std::uint64_t> first_test(cells + 1, 0);
+  for (std::size_t c = 0; c < cells; ++c)
+    first_test[c + 1] = first_test[c] + pair_count(lists.first[c + 1] - lists.first[c]);
+  stats_.tests = first_test[cells];
+
+  // The leaves as the tests read them, cell by cell (RegisteredLeaf).
+  std::vector<RegisteredLeaf> registered(lists.leaves.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, registered.size(), 4096), [&](const auto& range) {
+    for (std::size_t r = range.begin(); r != range.end(); ++r) {
+      const Leaf& leaf = leaves_[lists.leaves[r]];
+      registered[r] = RegisteredLeaf{leaf.triangle, leaf.cells};
+    }
+  });
+
+  const bool count_culled = settings_.count_culled_duplicates;
+  auto members = [&](std::uint64_t c) { return lists.first[c + 1] - lists.first[c]; };
+  auto test = [&](std::uint64_t c, std::uint64_t i, std::uint64_t j, PairCounts& counts,
+                  std::vector<std::uint64_t>& kept, std::vector<std::uint64_t>& culled) {
+    const RegisteredLeaf& a = registered[lists.first[c] + i];
+    const RegisteredLeaf& b = registered[lists.first[c] + j];
+    if (a.triangle.root == b.triangle.root) {
+      ++counts.same_root;
+      return;
+    }
+    if (!slots_nested(a.triangle, b.triangle)) {
+      ++counts.time_slots;
+      return;
+    }
+    switch (cell_pair_verdict(grid_, a.cells, b.cells, lists.cell_ids[c])) {
+      case CellPairVerdict::kSkipControlBits: ++counts.control_bits; return;
+      case CellPairVerdict::kSkipExtendedBits: ++counts.extended; return;
+      case CellPairVerdict::kTestFallback: ++counts.fallback; break;
+      case CellPairVerdict::kTest: break;
+    }
+    ++counts.passed;
+    const Index ra = a.triangle.root, rb = b.triangle.root;
+    if (dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb])) {
+      kept.push_back(pack_pair(ra, rb));
+    } else {
+      ++counts.culled;
+      if (count_culled) culled.push_back(pack_pair(ra, rb));
+    }
+  };
+  PairTests out;
+  run_work_items(first_test, members, members, test, out.kept, out.culled, out.counts);
+  out.seconds = seconds_since(t);
+  out.memory_bytes = reg.registrations * 16 + lists.leaves.capacity() * 4 + lists.cell_ids.capacity() * 8 +
+                     lists.first.capacity() * 8 + first_test.capacity() * 8 +
+                     registered.capacity() * sizeof(RegisteredLeaf);
+  return out;
+}
+
+VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::adaptive_pair_tests() {
+  // 4. Registration in the hierarchy of crowded cells.
+  auto t = Clock::now();
+  const AdaptiveCells tree =
+      build_adaptive_cells(leaves_, grid_, settings_.adaptive_max_depth, settings_.adaptive_cell_limit);
+  stats_.registrations = tree.registrations;
+  stats_.cells_used = tree.cells.size();
+  stats_.cells_subdivided = tree.cells_subdivided;
+  stats_.deepest_level = tree.deepest_level;
+  stats_.seconds_registration = seconds_since(t);
+
+  // 5. One test per work item; a crowded cell tests the rows of its stuck leaves.
+  t = Clock::now();
+  const std::size_t cells = tree.cells.size();
+  std::vector<std::uint64_t> first_test(cells + 1, 0);
+  for (std::size_t c = 0; c < cells; ++c)
+    first_test[c + 1] = first_test[c] + pair_count(tree.cells[c].count) - pair_count(tree.cells[c].count - tree.cells[c].stuck);
+  stats_.tests = first_test[cells];
+
+  const bool count_culled = settings_.count_culled_duplicates;
+  auto members = [&](std::uint64_t c) { return std::uint64_t(tree.cells[c].count); };
+  auto rows = [&](std::uint64_t c) { return std::uint64_t(tree.cells[c].stuck); };
+  auto test = [&](std::uint64_t c, std::uint64_t i, std::uint64_t j, PairCounts& counts,
+                  std::vector<std::uint64_t>& kept, std::vector<std::uint64_t>& culled) {
+    const TestCell& cell = tree.cells[c];
+    const std::uint32_t la = tree.members[cell.first + i], lb = tree.members[cell.first + j];
+    const Leaf& a = leaves_[la];
+    const Leaf& b = leaves_[lb];
+    if (a.triangle.root == b.triangle.root) {
+      ++counts.same_root;
+      return;
+    }
+    if (!slots_nested(a.triangle, b.triangle)) {
+      ++counts.time_slots;
+      return;
+    }
+    if (!adaptive_cell_owns_pair(tree.blocks[la], tree.blocks[lb], tree.depth, cell.level, cell.coord)) {
+      ++counts.control_bits;
+      return;
+    }
+    ++counts.passed;
+    const Index ra = a.triangle.root, rb = b.triangle.root;
+    if (dop_overlap(a.dop, b.dop) && dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb])) {
+      kept.push_back(pack_pair(ra, rb));
+    } else {
+      ++counts.culled;
+      if (count_culled) culled.push_back(pack_pair(ra, rb));
+    }
+  };
+  PairTests out;
+  run_work_items(first_test, members, rows, test, out.kept, out.culled, out.counts);
+  out.seconds = seconds_since(t);
+  out.memory_bytes = tree.blocks.capacity() * sizeof(FineBlock) + tree.cells.capacity() * sizeof(TestCell) +
+                     tree.members.capacity() * 4 + first_test.capacity() * 8;
+  return out;
 }
 
 std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vector<Vec3>& x_t0,
@@ -75,93 +261,12 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   stats_.leaf_triangles = leaves_.size();
   stats_.seconds_subdivision = seconds_since(t);
 
-  // 4. Registration, one sort, one scan.
+  // 4.-5. Registration and the pair tests.
+  PairTests tests = cells_ == Cells::kAdaptive ? adaptive_pair_tests() : uniform_pair_tests();
   t = Clock::now();
-  RegistrationCounts reg;
-  const CellLists lists = register_leaves(leaves_, grid_, reg);
-  stats_.registrations = reg.registrations;
-  stats_.home_registrations = reg.home;
-  stats_.phantom_registrations = reg.phantom;
-  stats_.duplicate_registrations_removed = reg.duplicates_removed;
-  stats_.cells_used = lists.cell_ids.size();
-  stats_.seconds_registration = seconds_since(t);
-
-  // 5. One test per work item: prefix sums of per-cell pair counts.
-  t = Clock::now();
-  const std::size_t cells = lists.cell_ids.size();
-  std::vector<std::uint64_t> first_test(cells + 1, 0);
-  for (std::size_t c = 0; c < cells; ++c)
-    first_test[c + 1] = first_test[c] + pair_count(lists.first[c + 1] - lists.first[c]);
-  const std::uint64_t tests = first_test[cells];
-  stats_.tests = tests;
-
-  // The leaves as the tests read them, cell by cell (RegisteredLeaf).
-  std::vector<RegisteredLeaf> registered(lists.leaves.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, registered.size(), 4096), [&](const auto& range) {
-    for (std::size_t r = range.begin(); r != range.end(); ++r) {
-      const Leaf& leaf = leaves_[lists.leaves[r]];
-      registered[r] = RegisteredLeaf{leaf.triangle, leaf.cells};
-    }
-  });
-
-  constexpr std::uint64_t kChunk = 1 << 16;
-  const std::size_t chunks = static_cast<std::size_t>((tests + kChunk - 1) / kChunk);
-  std::vector<std::vector<std::uint64_t>> chunk_keys(chunks), chunk_culled(chunks);
-  const bool count_culled = settings_.count_culled_duplicates;
-  std::vector<PairCounts> chunk_counts(chunks);
-  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
-    const std::uint64_t begin = chunk * kChunk, end = std::min<std::uint64_t>(tests, begin + kChunk);
-    // Work item w -> (cell, i, j): the binary search and inversion of
-    // grid/pair_index.hpp for the chunk's first item, then stepping, which
-    // gives the same mapping item by item.
-    std::uint64_t c = cell_of_work_item(first_test.data(), cells, begin), i = 0, j = 0;
-    std::uint64_t n = lists.first[c + 1] - lists.first[c];
-    pair_from_index(n, begin - first_test[c], i, j);
-    PairCounts& counts = chunk_counts[chunk];
-    std::vector<std::uint64_t>& keys = chunk_keys[chunk];
-    for (std::uint64_t w = begin; w < end; ++w) {
-      const RegisteredLeaf& a = registered[lists.first[c] + i];
-      const RegisteredLeaf& b = registered[lists.first[c] + j];
-      if (a.triangle.root == b.triangle.root) {
-        ++counts.same_root;
-      } else if (!slots_nested(a.triangle, b.triangle)) {
-        ++counts.time_slots;
-      } else {
-        switch (cell_pair_verdict(grid_, a.cells, b.cells, lists.cell_ids[c])) {
-          case CellPairVerdict::kSkipControlBits: ++counts.control_bits; break;
-          case CellPairVerdict::kSkipExtendedBits: ++counts.extended; break;
-          case CellPairVerdict::kTestFallback: ++counts.fallback; [[fallthrough]];
-          case CellPairVerdict::kTest: {
-            ++counts.passed;
-            const Index ra = a.triangle.root, rb = b.triangle.root;
-            if (dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb])) {
-              keys.push_back(pack_pair(ra, rb));
-            } else {
-              ++counts.culled;
-              if (count_culled) chunk_culled[chunk].push_back(pack_pair(ra, rb));
-            }
-            break;
-          }
-        }
-      }
-      // Next work item.
-      if (++j == n) {
-        ++i;
-        j = i + 1;
-        if (j >= n) {
-          do { ++c; } while (c < cells && first_test[c + 1] == first_test[c]);
-          if (c < cells) {
-            n = lists.first[c + 1] - lists.first[c];
-            i = 0;
-            j = 1;
-          }
-        }
-      }
-    }
-  });
   std::size_t key_count = 0;
-  for (std::size_t k = 0; k < chunks; ++k) {
-    const PairCounts& counts = chunk_counts[k];
+  for (std::size_t k = 0; k < tests.counts.size(); ++k) {
+    const PairCounts& counts = tests.counts[k];
     stats_.same_root_tests += counts.same_root;
     stats_.removed_by_time_slots += counts.time_slots;
     stats_.removed_by_control_bits += counts.control_bits;
@@ -169,11 +274,11 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
     stats_.fallback_tests += counts.fallback;
     stats_.tests_after_control_bits += counts.passed;
     stats_.culled_by_dop += counts.culled;
-    key_count += chunk_keys[k].size();
+    key_count += tests.kept[k].size();
   }
   std::vector<std::uint64_t> keys;
   keys.reserve(key_count);
-  for (auto& chunk : chunk_keys) {
+  for (auto& chunk : tests.kept) {
     keys.insert(keys.end(), chunk.begin(), chunk.end());
     std::vector<std::uint64_t>().swap(chunk);
   }
@@ -181,9 +286,10 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   // 6. Final sort + unique. Duplicate root-pair tests are counted exactly
   // among the tests the DOPs kept and, when asked, among those they culled
   // (the DOP test depends on the root pair only).
+  const bool count_culled = settings_.count_culled_duplicates;
   std::vector<std::uint64_t> culled;
   if (count_culled) culled.reserve(stats_.culled_by_dop);
-  for (auto& chunk : chunk_culled) {
+  for (auto& chunk : tests.culled) {
     culled.insert(culled.end(), chunk.begin(), chunk.end());
     std::vector<std::uint64_t>().swap(chunk);
   }
@@ -194,12 +300,10 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   tbb::parallel_sort(keys.begin(), keys.end());
   const std::size_t kept_tests = keys.size();
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  stats_.seconds_pairs = seconds_since(t);
+  stats_.seconds_pairs = seconds_since(t) + tests.seconds;
   stats_.triangle_pairs = keys.size();
 
-  stats_.memory_bytes = leaves_.capacity() * sizeof(Leaf) + reg.registrations * 16 + lists.leaves.capacity() * 4 +
-                        lists.cell_ids.capacity() * 8 + lists.first.capacity() * 8 + first_test.capacity() * 8 +
-                        registered.capacity() * sizeof(RegisteredLeaf) + (kept_tests + culled_tests) * 8 +
+  stats_.memory_bytes = leaves_.capacity() * sizeof(Leaf) + tests.memory_bytes + (kept_tests + culled_tests) * 8 +
                         (bounds_.triangles.size() + bounds_.edges.size() + bounds_.vertices.size()) * sizeof(Dop18);
   stats_.duplicate_root_pair_tests = kept_tests - keys.size();
   stats_.duplicate_culled_tests = culled_tests - culled_unique;

@@ -64,8 +64,16 @@ namespace snag {
 
 class VirtualSubdivisionGrid : public BroadPhase {
  public:
+  /// Where pairs are tested: the uniform grid's cells (steps 4-5 above), or
+  /// those cells with the crowded ones subdivided (grid/adaptive_cells.hpp).
+  /// The adaptive grid returns exactly T_leaf: a pair of leaves is tested in
+  /// the one cell that owns it, and kept when the leaves' DOPs and the roots'
+  /// DOPs overlap.
+  enum class Cells { kUniform, kAdaptive };
+
   /// subdivide = true: the VSS grid; false: the cell fits the largest triangle.
-  explicit VirtualSubdivisionGrid(bool subdivide = true) : subdivide_(subdivide) {}
+  explicit VirtualSubdivisionGrid(bool subdivide = true, Cells cells = Cells::kUniform)
+      : subdivide_(subdivide), cells_(cells) {}
 
   void build(const Scene& scene, const BroadPhaseSettings& settings) override;
   void detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<VertexFaceCandidate>& vf,
@@ -79,9 +87,13 @@ class VirtualSubdivisionGrid : public BroadPhase {
   const GridSpec& grid() const { return grid_; }
 
  private:
+  struct PairTests;
   std::vector<TrianglePair> triangle_pairs(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1);
+  PairTests uniform_pair_tests();
+  PairTests adaptive_pair_tests();
 
   bool subdivide_;
+  Cells cells_;
   const Scene* scene_ = nullptr;
   BroadPhaseSettings settings_;
   RepresentativeTriangles reps_;

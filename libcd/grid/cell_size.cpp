@@ -27,7 +27,11 @@ GridSpec make_grid(Vec3 lo, Vec3 hi, double cell_size) {
   grid.origin = lo;
   const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 0.0});
   const double smallest = extent > 0 ? extent / double(1 << 20) : 1.0;
-  if (!(cell_size >= smallest) || !std::isfinite(cell_size)) cell_size = smallest;
+  // No size at all (every triangle a point, or no finite radius): one cell
+  // over the box, since the DOPs' rounding pads would span 2^20 tiny cells
+  // per axis.
+  if (!(cell_size > 0) || !std::isfinite(cell_size)) cell_size = extent > 0 ? extent : 1.0;
+  if (!(cell_size >= smallest)) cell_size = smallest;
   grid.cell_size = cell_size;
   for (int a = 0; a < 3; ++a) {
     const double n = std::floor(std::max(hi[a] - lo[a], 0.0) / cell_size) + 1;

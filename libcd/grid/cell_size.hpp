@@ -27,9 +27,10 @@ double virtual_subdivision_cell_size(const std::vector<double>& radii, double la
 /// so none is subdivided (the largest-triangle grid).
 double largest_triangle_cell_size(const std::vector<double>& radii);
 
-/// A grid of the given cell size over [lo, hi]. A cell size that is zero, not
-/// finite, or so small that an axis would need more than 2^20 cells is raised
-/// to (largest extent)/2^20 (or 1 for an empty box), so cell ids fit 64 bits.
+/// A grid of the given cell size over [lo, hi]. A cell size that is zero or
+/// not finite becomes the largest extent (one cell; 1 for an empty box); one
+/// so small that an axis would need more than 2^20 cells is raised to
+/// (largest extent)/2^20, so cell ids fit 64 bits.
 GridSpec make_grid(Vec3 lo, Vec3 hi, double cell_size);
 
 }  // namespace snag
