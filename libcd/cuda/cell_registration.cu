@@ -21,7 +21,8 @@ namespace {
 using detail::blocks_for;
 using detail::thread_item;
 
-void ensure(DeviceBuffer<unsigned char>& temp, std::size_t bytes) {
+void ensure(DeviceBuffer<unsigned char>& temp, std::size_t bytes, const GrowthCheck& check) {
+  check_growth(check, temp.growth_bytes(std::max<std::size_t>(bytes, 1)));
   if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
 }
 
@@ -77,7 +78,7 @@ int bits_for(std::uint64_t max_value) {
 }  // namespace
 
 void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec& grid, DeviceCellLists& g,
-                               cudaStream_t stream, RegistrationCounts& counts) {
+                               cudaStream_t stream, RegistrationCounts& counts, const GrowthCheck& check) {
   counts = RegistrationCounts{};
   g.cells = 0;
   g.first.resize(1);
@@ -87,13 +88,14 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   if (n == 0) return;
 
   // Registration: one item per cell of each leaf's block.
+  check_growth(check, g.block_count.growth_bytes(n + 1) + g.offset.growth_bytes(n + 1));
   g.block_count.resize(n + 1);
   g.offset.resize(n + 1);
   block_count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(leaves, n, g.block_count.data());
   SNAG_CUDA_CHECK_LAUNCH();
   std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, g.block_count.data(), g.offset.data(), n + 1, stream));
-  ensure(g.temp, bytes);
+  ensure(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(
       cub::DeviceScan::ExclusiveSum(g.temp.data(), bytes, g.block_count.data(), g.offset.data(), n + 1, stream));
@@ -105,6 +107,8 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   counts.home = n;
   counts.phantom = total - n;
 
+  check_growth(check, g.keys.growth_bytes(total) + g.values.growth_bytes(total) + g.keys_sorted.growth_bytes(total) +
+                          g.values_sorted.growth_bytes(total));
   g.keys.resize(total);
   g.values.resize(total);
   g.keys_sorted.resize(total);
@@ -122,13 +126,14 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, g.keys.data(), g.keys_sorted.data(),
                                                   g.values.data(), g.values_sorted.data(), total, 0, end_bit,
                                                   stream));
-  ensure(g.temp, bytes);
+  ensure(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(g.temp.data(), bytes, g.keys.data(), g.keys_sorted.data(),
                                                   g.values.data(), g.values_sorted.data(), total, 0, end_bit,
                                                   stream));
 
   // One scan removing duplicate registrations (home priority).
+  check_growth(check, g.keep.growth_bytes(total));
   g.keep.resize(total);
   g.keep.fill_zero();
   keep_kernel<<<blocks_for(total), detail::kBlockSize, 0, stream>>>(leaves, grid, g.keys_sorted.data(),
@@ -136,20 +141,21 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   SNAG_CUDA_CHECK_LAUNCH();
 
   // Compaction of keys and leaf ids.
+  check_growth(check, g.kept_keys.growth_bytes(total) + g.leaves.growth_bytes(total) + g.selected.growth_bytes(2));
   g.kept_keys.resize(total);
   g.leaves.resize(total);
   g.selected.resize(2);
   bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(nullptr, bytes, g.keys_sorted.data(), g.keep.data(), g.kept_keys.data(),
                                              g.selected.data(), total, stream));
-  ensure(g.temp, bytes);
+  ensure(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(g.temp.data(), bytes, g.keys_sorted.data(), g.keep.data(),
                                              g.kept_keys.data(), g.selected.data(), total, stream));
   bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(nullptr, bytes, g.values_sorted.data(), g.keep.data(), g.leaves.data(),
                                              g.selected.data(), total, stream));
-  ensure(g.temp, bytes);
+  ensure(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(g.temp.data(), bytes, g.values_sorted.data(), g.keep.data(),
                                              g.leaves.data(), g.selected.data(), total, stream));
@@ -161,12 +167,13 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   g.leaves.resize(kept);
 
   // The cells: runs of equal cell id, and their offsets.
+  check_growth(check, g.cell_ids.growth_bytes(kept) + g.run_length.growth_bytes(kept + 1));
   g.cell_ids.resize(kept);
   g.run_length.resize(kept + 1);
   bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(nullptr, bytes, g.kept_keys.data(), g.cell_ids.data(),
                                                      g.run_length.data(), g.selected.data() + 1, kept, stream));
-  ensure(g.temp, bytes);
+  ensure(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(g.temp.data(), bytes, g.kept_keys.data(), g.cell_ids.data(),
                                                      g.run_length.data(), g.selected.data() + 1, kept, stream));
@@ -177,10 +184,11 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   g.cell_ids.resize(cells);
   first_kernel<<<1, 1, 0, stream>>>(g.run_length.data(), cells);
   SNAG_CUDA_CHECK_LAUNCH();
+  check_growth(check, g.first.growth_bytes(cells + 1));
   g.first.resize(cells + 1);
   bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, g.run_length.data(), g.first.data(), cells + 1, stream));
-  ensure(g.temp, bytes);
+  ensure(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(
       cub::DeviceScan::ExclusiveSum(g.temp.data(), bytes, g.run_length.data(), g.first.data(), cells + 1, stream));

@@ -37,7 +37,9 @@ struct DeviceCellLists {
 
 /// Registers leaf_count device leaves as register_leaves does; counts as the CPU's.
 /// Waits for the stream (sizes). Throws CudaError.
+/// `check` is told what each allocation adds before it is made (it may throw).
 void register_leaves_on_device(const Leaf* leaves, std::size_t leaf_count, const GridSpec& grid,
-                               DeviceCellLists& lists, cudaStream_t stream, RegistrationCounts& counts);
+                               DeviceCellLists& lists, cudaStream_t stream, RegistrationCounts& counts,
+                               const GrowthCheck& check = {});
 
 }  // namespace snag

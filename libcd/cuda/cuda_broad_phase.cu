@@ -111,7 +111,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   double max_radius = 0;
   compute_primitive_bounds_on_device(b.topology.triangles.data(), triangle_count, b.topology.edges.data(),
                                      edge_count, d_x_t0, d_x_t1, vertex_count, settings_.thickness, b.bounds,
-                                     stream, scene_lo, scene_hi, max_radius);
+                                     stream, scene_lo, scene_hi, max_radius, budget_check("bounds"));
   double size = 0;
   if (triangle_count > 0) {
     if (subdivide_) {
@@ -133,7 +133,8 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   const std::size_t leaf_count = subdivide_virtually_on_device(
       b.topology.triangles.data(), triangle_count, d_x_t0, d_x_t1, grid, settings_.thickness,
       static_cast<std::uint32_t>(subdivide_ ? settings_.max_subdivision_levels : 0),
-      static_cast<std::uint32_t>(subdivide_ ? settings_.max_time_halvings : 0), b.subdivision, stream, levels);
+      static_cast<std::uint32_t>(subdivide_ ? settings_.max_time_halvings : 0), b.subdivision, stream, levels,
+      budget_check("subdivision"));
   if (leaf_count > 0xffffffffull) throw UsageError("broad phase: more than 2^32 - 1 leaf triangles");
   stats_.root_triangles = triangle_count;
   for (const SubdivisionLevelCounts& level : levels) {
@@ -150,7 +151,8 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // 4. Registration, one sort, one scan.
   DeviceMemoryTracker::set_stage("broad phase: registration");
   RegistrationCounts reg;
-  register_leaves_on_device(b.subdivision.leaves.data(), leaf_count, grid, b.cells, stream, reg);
+  register_leaves_on_device(b.subdivision.leaves.data(), leaf_count, grid, b.cells, stream, reg,
+                            budget_check("registration"));
   stats_.registrations = reg.registrations;
   stats_.home_registrations = reg.home;
   stats_.phantom_registrations = reg.phantom;
@@ -166,7 +168,8 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // budget (the stages so far hold over half of it), the leaves and the
   // subdivision's and registration's scratch are given back now.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
-  order_registrations_on_device(b.subdivision.leaves.data(), b.cells, b.pairs, stream);
+  order_registrations_on_device(b.subdivision.leaves.data(), b.cells, b.pairs, stream,
+                                budget_check("copy of the leaves for the pair tests"));
   if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
 
   // The chunks' room: what the budget leaves beside the buffers the chunks do
@@ -366,6 +369,17 @@ std::size_t CudaBroadPhase::held_bytes() const {
   return total;
 }
 
+GrowthCheck CudaBroadPhase::budget_check(const char* stage) const {
+  if (budget_ == 0) return {};
+  return [this, stage](std::size_t bytes) {
+    const std::size_t held = held_bytes();
+    if (held + bytes > budget_)
+      throw UsageError("the device memory limit is too small for this scene: the broad phase's " + std::string(stage) +
+                       " would hold " + std::to_string(held + bytes) + " bytes, its share of the limit is " +
+                       std::to_string(budget_) + " bytes; raise the limit (snag-scan --device-memory)");
+  };
+}
+
 std::size_t CudaBroadPhase::chunk_bytes() const {
   const DevicePairs& p = buffers_->pairs;
   const DeviceFeatures& f = buffers_->features;
@@ -411,6 +425,7 @@ std::unique_ptr<CudaBroadPhase> CudaBroadPhase::create(BroadPhaseMethod method) 
     case BroadPhaseMethod::kVirtualSubdivisionGrid: return std::make_unique<CudaBroadPhase>(true);
     case BroadPhaseMethod::kLargestTriangleGrid: return std::make_unique<CudaBroadPhase>(false);
     case BroadPhaseMethod::kBruteForce: break;
+    case BroadPhaseMethod::kAdaptiveGrid: throw UsageError("broad phase: the CUDA back end has no adaptive grid");
   }
   throw UsageError("broad phase: the CUDA back end has no brute-force broad phase");
 }

@@ -14,6 +14,7 @@
 
 #include <cassert>
 #include <cstddef>
+#include <functional>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -55,6 +56,8 @@ class DeviceBuffer {
   /// Device bytes the buffer holds (its capacity).
   std::size_t capacity_bytes() const { return capacity_ * sizeof(T); }
   cudaStream_t stream() const { return stream_; }
+  /// Device bytes resize(count) would add to what the buffer holds.
+  std::size_t growth_bytes(std::size_t count) const { return count > capacity_ ? (count - capacity_) * sizeof(T) : 0; }
 
   /// Sets the size to `count`, discarding the contents (nothing is copied).
   /// Reallocates only when `count` exceeds the capacity. Throws CudaError.
@@ -183,5 +186,13 @@ class PinnedBuffer {
   std::size_t size_ = 0;
   std::size_t capacity_ = 0;
 };
+
+/// Told by a stage the device bytes its buffers are about to add, before they
+/// allocate, so that a memory budget is checked before it is exceeded (the
+/// CUDA broad phase throws a UsageError there). An empty check accepts all.
+using GrowthCheck = std::function<void(std::size_t bytes)>;
+inline void check_growth(const GrowthCheck& check, std::size_t bytes) {
+  if (check) check(bytes);
+}
 
 }  // namespace snag

@@ -250,9 +250,12 @@ std::vector<RootRange> split_range(RootRange range, const std::vector<unsigned>&
 }  // namespace
 
 void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& lists, DevicePairs& p,
-                                   cudaStream_t stream) {
+                                   cudaStream_t stream, const GrowthCheck& check) {
   const std::size_t cells = lists.cells;
   const std::size_t registrations = lists.leaves.size();
+  check_growth(check, p.registered.growth_bytes(registrations) + p.order_keys.growth_bytes(registrations) +
+                          p.order_keys_spare.growth_bytes(registrations) + p.order_ids.growth_bytes(registrations) +
+                          p.order_ids_spare.growth_bytes(registrations));
   p.registered.resize(registrations);
   if (registrations == 0) return;
   p.order_keys.resize(registrations);
@@ -267,6 +270,7 @@ void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& li
   const int end_bit = 32 + bits_for(cells > 0 ? cells - 1 : 0);
   std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, ids, registrations, 0, end_bit, stream));
+  check_growth(check, p.temp.growth_bytes(std::max<std::size_t>(bytes, 1)));
   ensure(p.temp, bytes);
   bytes = p.temp.size();
   SNAG_CUDA_CHECK(

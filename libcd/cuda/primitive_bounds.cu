@@ -73,7 +73,11 @@ void ensure_temp(DeviceBuffer<unsigned char>& temp, std::size_t bytes) {
 void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t triangle_count, const Edge* edges,
                                         std::size_t edge_count, const Vec3* x_t0, const Vec3* x_t1,
                                         std::size_t vertex_count, double thickness, DevicePrimitiveBounds& out,
-                                        cudaStream_t stream, Vec3& scene_lo, Vec3& scene_hi, double& max_radius) {
+                                        cudaStream_t stream, Vec3& scene_lo, Vec3& scene_hi, double& max_radius,
+                                        const GrowthCheck& check) {
+  check_growth(check, out.triangles.growth_bytes(triangle_count) + out.triangle_radii.growth_bytes(triangle_count) +
+                          out.edges.growth_bytes(edge_count) + out.vertices.growth_bytes(vertex_count) +
+                          out.box.growth_bytes(4) + out.max_radius.growth_bytes(1));
   out.triangles.resize(triangle_count);
   out.triangle_radii.resize(triangle_count);
   out.edges.resize(edge_count);

@@ -41,11 +41,13 @@ struct DevicePrimitiveBounds {
 /// @param x_t0, x_t1 #V device positions (the same pointer twice for static detection)
 /// @param thickness  ≥ 0, scene units
 /// @param[out] scene_lo, scene_hi, max_radius  host values
-/// Throws CudaError.
+/// @param check  told what the bounds' arrays add before they allocate (it may throw)
+/// Throws CudaError, or what `check` throws.
 void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t triangle_count, const Edge* edges,
                                         std::size_t edge_count, const Vec3* x_t0, const Vec3* x_t1,
                                         std::size_t vertex_count, double thickness, DevicePrimitiveBounds& out,
-                                        cudaStream_t stream, Vec3& scene_lo, Vec3& scene_hi, double& max_radius);
+                                        cudaStream_t stream, Vec3& scene_lo, Vec3& scene_hi, double& max_radius,
+                                        const GrowthCheck& check = {});
 
 /// The exact sum of the quantized triangle radii (radius_sum.hpp) for the
 /// given shift, by a device reduction; waits for the stream. Throws CudaError.

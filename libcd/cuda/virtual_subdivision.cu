@@ -109,9 +109,10 @@ __global__ void write_kernel(const DeviceLevelItem* items, std::size_t n, const 
 }
 
 void exclusive_sum(const std::uint64_t* in, std::uint64_t* out, std::size_t n, DeviceBuffer<unsigned char>& temp,
-                   cudaStream_t stream) {
+                   cudaStream_t stream, const GrowthCheck& check) {
   std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, n, stream));
+  check_growth(check, temp.growth_bytes(std::max<std::size_t>(bytes, 1)));
   if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
   bytes = temp.size();
   SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temp.data(), bytes, in, out, n, stream));
@@ -123,9 +124,10 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
                                           const Vec3* x_t1, const GridSpec& grid, double thickness,
                                           std::uint32_t max_levels, std::uint32_t max_halvings,
                                           DeviceSubdivision& b, cudaStream_t stream,
-                                          std::vector<SubdivisionLevelCounts>& levels) {
+                                          std::vector<SubdivisionLevelCounts>& levels, const GrowthCheck& check) {
   levels.clear();
   std::size_t n = triangle_count, leaf_total_so_far = 0;
+  check_growth(check, b.items.growth_bytes(n) + b.counters.growth_bytes(3));
   b.items.resize(n);
   if (n > 0) {
     root_items_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(n, b.items.data());
@@ -133,6 +135,9 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
   }
   b.counters.resize(3);
   while (n > 0) {
+    check_growth(check, b.decision.growth_bytes(n) + b.home.growth_bytes(n) + b.child_count.growth_bytes(n + 1) +
+                            b.leaf_count.growth_bytes(n + 1) + b.child_offset.growth_bytes(n + 1) +
+                            b.leaf_offset.growth_bytes(n + 1));
     b.decision.resize(n);
     b.home.resize(n);
     b.child_count.resize(n + 1);
@@ -144,8 +149,8 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
         b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, max_levels, max_halvings, b.decision.data(),
         b.home.data(), b.child_count.data(), b.leaf_count.data(), b.counters.data());
     SNAG_CUDA_CHECK_LAUNCH();
-    exclusive_sum(b.child_count.data(), b.child_offset.data(), n + 1, b.temp, stream);
-    exclusive_sum(b.leaf_count.data(), b.leaf_offset.data(), n + 1, b.temp, stream);
+    exclusive_sum(b.child_count.data(), b.child_offset.data(), n + 1, b.temp, stream, check);
+    exclusive_sum(b.leaf_count.data(), b.leaf_offset.data(), n + 1, b.temp, stream, check);
     std::uint64_t child_total = 0, leaf_total = 0;
     unsigned long long counters[3] = {0, 0, 0};
     SNAG_CUDA_CHECK(cudaMemcpyAsync(&child_total, b.child_offset.data() + n, sizeof(std::uint64_t),
@@ -166,7 +171,9 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
     // Room for this level's leaves after the previous ones (grow, keeping them).
     const std::size_t leaf_end = leaf_total_so_far + leaf_total;
     if (leaf_end > b.leaves.capacity()) {
-      b.spare.resize(std::max<std::size_t>(leaf_end, 2 * b.leaves.capacity()));
+      const std::size_t room = std::max<std::size_t>(leaf_end, 2 * b.leaves.capacity());
+      check_growth(check, b.spare.growth_bytes(room));  // beside the leaves so far, which it takes over
+      b.spare.resize(room);
       if (leaf_total_so_far > 0)
         SNAG_CUDA_CHECK(cudaMemcpyAsync(b.spare.data(), b.leaves.data(), leaf_total_so_far * sizeof(Leaf),
                                         cudaMemcpyDeviceToDevice, stream));
@@ -174,6 +181,7 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
       b.spare.release();
     }
     b.leaves.resize(leaf_end);
+    check_growth(check, b.next.growth_bytes(child_total));
     b.next.resize(child_total);
     write_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(
         b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, b.decision.data(), b.home.data(),

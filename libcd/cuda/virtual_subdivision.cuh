@@ -46,11 +46,13 @@ struct DeviceSubdivision {
 /// Waits for the stream once per level (the sizes of the next level).
 /// @param triangles  #F device triangles; x_t0, x_t1: #V device positions
 /// @param[out] levels  one entry per level examined
-/// Throws CudaError.
+/// @param check  told what each allocation adds before it is made (it may throw)
+/// Throws CudaError, or what `check` throws.
 std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t triangle_count, const Vec3* x_t0,
                                           const Vec3* x_t1, const GridSpec& grid, double thickness,
                                           std::uint32_t max_levels, std::uint32_t max_halvings,
                                           DeviceSubdivision& buffers, cudaStream_t stream,
-                                          std::vector<SubdivisionLevelCounts>& levels);
+                                          std::vector<SubdivisionLevelCounts>& levels,
+                                          const GrowthCheck& check = {});
 
 }  // namespace snag

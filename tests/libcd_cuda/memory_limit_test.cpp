@@ -3,14 +3,16 @@
 // the same counts), and the CUDA back end under a small --device-memory limit
 // gives exactly the events of the unlimited run and of the CPU back end, with
 // the bytes its buffers hold (DeviceMemoryTracker) never above the limit. A
-// limit too small for the topology or for one chunk is a UsageError (exit 2
-// from snag-scan), never a crash. Oracles: the unchunked GPU run and the CPU
+// limit too small for the topology, for a stage before the pair tests (checked
+// before the stage allocates) or for one chunk is a UsageError (exit 2 from
+// snag-scan), never a crash. Oracles: the unchunked GPU run and the CPU
 // back end.
 #include <gtest/gtest.h>
 
 #include <memory>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "event_compare.hpp"
@@ -149,6 +151,52 @@ TEST_F(MemoryLimit, OneTriangleOverTheRoomOnClothBallIsAUsageError) {
   EXPECT_THROW(broad->detect_ccd(step.m92.positions, step.m93.positions, vf, ee), UsageError);
   broad->set_chunk_rooms(0, 10);  // under the 15 candidates one pair may yield
   EXPECT_THROW(broad->detect_ccd(step.m92.positions, step.m93.positions, vf, ee), UsageError);
+}
+
+/// Bytes of the census entries of `broad` whose names start with one of `prefixes`.
+std::size_t census_bytes(const CudaBroadPhase& broad, const std::vector<std::string>& prefixes) {
+  std::size_t total = 0;
+  for (const auto& [name, bytes] : broad.memory_census())
+    for (const std::string& prefix : prefixes)
+      if (name.rfind(prefix, 0) == 0) total += bytes;
+  return total;
+}
+
+// A budget too small for the bounds, or for the subdivision once the bounds
+// fit, is refused before that stage allocates past it: the UsageError names
+// the stage, and the broad phase then holds no more than its budget (it used
+// to allocate the bounds, subdivision and registration first and refuse only
+// before the pair tests). The stages' sizes come from the census of an
+// unlimited detection of the same step.
+TEST_F(MemoryLimit, BudgetTooSmallForClothBallBoundsOrSubdivisionIsRefusedBeforeTheyAllocate) {
+  const ClothBallStep step;
+  auto unlimited = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  unlimited->build(step.scene, BroadPhaseSettings{});
+  std::vector<VertexFaceCandidate> vf;
+  std::vector<EdgeEdgeCandidate> ee;
+  unlimited->detect_ccd(step.m92.positions, step.m93.positions, vf, ee);
+  const std::size_t before_bounds = census_bytes(*unlimited, {"topology", "uploaded positions"});
+  const std::size_t bounds = census_bytes(*unlimited, {"bounds:"});
+  ASSERT_GT(bounds, std::size_t{4} << 20);  // so that 1 MiB over the stages before is too little for it
+
+  const std::pair<std::size_t, const char*> cases[] = {{before_bounds + (1 << 20), "bounds"},
+                                                       {before_bounds + bounds + (1 << 20), "subdivision"}};
+  for (const auto& [budget, stage] : cases) {
+    auto broad = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+    broad->build(step.scene, BroadPhaseSettings{});
+    broad->set_memory_budget(budget);
+    const std::string where = std::string("budget ") + std::to_string(budget) + " bytes (" + stage + ")";
+    try {
+      broad->detect_ccd(step.m92.positions, step.m93.positions, vf, ee);
+      ADD_FAILURE() << where << ": accepted";
+    } catch (const UsageError& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("too small"), std::string::npos) << where << ": " << message;
+      EXPECT_NE(message.find(stage), std::string::npos) << where << ": " << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << where << ": one line";
+    }
+    EXPECT_LE(broad->held_bytes(), budget) << where;
+  }
 }
 
 /// The bytes the CUDA back end's buffers held at most over a scan of
