@@ -206,6 +206,7 @@ const char* method_name(BroadPhaseMethod method) {
     case BroadPhaseMethod::kLargestTriangleGrid: return "largest-grid";
     case BroadPhaseMethod::kBruteForce: return "brute-force";
     case BroadPhaseMethod::kBoxGrid: return "box-grid";
+    case BroadPhaseMethod::kAdaptiveGrid: return "adaptive-grid";
   }
   return "?";
 }
