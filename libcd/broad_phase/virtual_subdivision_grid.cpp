@@ -28,6 +28,19 @@ struct PairCounts {
   std::size_t same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culled = 0;
 };
 
+/// Counts one test of roots ra, rb that passed the cell's rule: kept when the
+/// DOPs overlap, else culled (its key kept only to count culled duplicates).
+void record_dop_test(bool overlap, Index ra, Index rb, bool count_culled, PairCounts& counts,
+                     std::vector<std::uint64_t>& kept, std::vector<std::uint64_t>& culled) {
+  ++counts.passed;
+  if (overlap) {
+    kept.push_back(pack_pair(ra, rb));
+    return;
+  }
+  ++counts.culled;
+  if (count_culled) culled.push_back(pack_pair(ra, rb));
+}
+
 }  // namespace
 
 /// What the pair tests leave for step 6: per chunk of work items, the keys of
@@ -152,14 +165,9 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
       case CellPairVerdict::kTestFallback: ++counts.fallback; break;
       case CellPairVerdict::kTest: break;
     }
-    ++counts.passed;
     const Index ra = a.triangle.root, rb = b.triangle.root;
-    if (dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb])) {
-      kept.push_back(pack_pair(ra, rb));
-    } else {
-      ++counts.culled;
-      if (count_culled) culled.push_back(pack_pair(ra, rb));
-    }
+    record_dop_test(dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb]), ra, rb, count_culled, counts, kept,
+                    culled);
   };
   PairTests out;
   run_work_items(first_test, members, members, test, out.kept, out.culled, out.counts);
@@ -210,14 +218,9 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::adaptive_pair_tests() 
       ++counts.control_bits;
       return;
     }
-    ++counts.passed;
     const Index ra = a.triangle.root, rb = b.triangle.root;
-    if (dop_overlap(a.dop, b.dop) && dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb])) {
-      kept.push_back(pack_pair(ra, rb));
-    } else {
-      ++counts.culled;
-      if (count_culled) culled.push_back(pack_pair(ra, rb));
-    }
+    record_dop_test(dop_overlap(a.dop, b.dop) && dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb]), ra, rb,
+                    count_culled, counts, kept, culled);
   };
   PairTests out;
   run_work_items(first_test, members, rows, test, out.kept, out.culled, out.counts);

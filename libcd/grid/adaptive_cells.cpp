@@ -6,16 +6,14 @@
 
 #include <algorithm>
 
+#include "libcd/grid/cell_registration.hpp"
+
 namespace snag {
 
 namespace {
 
 /// One leaf in one cell of a level; `cell` is the cell's key in that level.
-struct Registration {
-  std::uint64_t cell;
-  std::uint32_t leaf;
-  bool operator<(const Registration& o) const { return cell != o.cell ? cell < o.cell : leaf < o.leaf; }
-};
+using Registration = CellRegistration;
 
 /// Level 0: every leaf in every uniform-grid cell of its block, keyed by cell id.
 std::vector<Registration> register_in_grid(const std::vector<FineBlock>& blocks, const GridSpec& grid, int depth) {

@@ -9,11 +9,7 @@ namespace snag {
 
 namespace {
 
-struct Registration {
-  std::uint64_t cell;
-  std::uint32_t leaf;
-  bool operator<(const Registration& o) const { return cell != o.cell ? cell < o.cell : leaf < o.leaf; }
-};
+using Registration = CellRegistration;
 
 std::size_t exclusive_scan(std::vector<std::size_t>& values) {
   const std::size_t n = values.size();

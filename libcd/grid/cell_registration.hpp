@@ -40,6 +40,13 @@ struct RegistrationCounts {
   std::size_t kept = 0;                ///< left after the scan
 };
 
+/// One leaf in one cell; sorted by cell, then leaf (a stable sort by cell).
+struct CellRegistration {
+  std::uint64_t cell;
+  std::uint32_t leaf;
+  bool operator<(const CellRegistration& o) const { return cell != o.cell ? cell < o.cell : leaf < o.leaf; }
+};
+
 /// True when two leaves belong to the same (root, time slot) unit.
 SNAG_HD_INLINE bool same_unit(const VirtualTriangle& a, const VirtualTriangle& b) {
   return a.root == b.root && a.slot_depth == b.slot_depth && a.slot_index == b.slot_index;
