@@ -46,36 +46,6 @@ void BoxGridBroadPhase::build(const Scene& scene, const BroadPhaseSettings& sett
   settings_ = settings;
   arena_ = std::make_unique<tbb::task_arena>(arena_threads(settings.threads));
   arena_->execute([&] { reps_ = assign_representative_triangles(scene); });
-  list_neighbours();
-}
-
-void BoxGridBroadPhase::list_neighbours() {
-  const std::vector<Triangle>& triangles = scene_->triangles();
-  const std::size_t n = triangles.size(), vertices = scene_->vertex_count();
-  // Each vertex's triangles (a counting sort), then each triangle's later
-  // ones among its vertices' triangles. All of them are in the output, so
-  // these lists take no more memory than the pairs do.
-  std::vector<std::uint64_t> vertex_first(vertices + 1, 0);
-  for (const Triangle& t : triangles)
-    for (const Index v : t) ++vertex_first[v + 1];
-  for (std::size_t v = 0; v < vertices; ++v) vertex_first[v + 1] += vertex_first[v];
-  std::vector<Index> incident(vertex_first[vertices]);
-  std::vector<std::uint64_t> next(vertex_first.begin(), vertex_first.end() - 1);
-  for (std::size_t t = 0; t < n; ++t)
-    for (const Index v : triangles[t]) incident[next[v]++] = static_cast<Index>(t);
-  neighbour_first_.assign(n + 1, 0);
-  neighbours_.clear();
-  for (std::size_t a = 0; a < n; ++a) {
-    const std::size_t first = neighbours_.size();
-    for (const Index v : triangles[a])
-      for (std::uint64_t i = vertex_first[v]; i != vertex_first[v + 1]; ++i)
-        if (incident[i] > a) neighbours_.push_back(incident[i]);
-    std::sort(neighbours_.begin() + static_cast<std::ptrdiff_t>(first), neighbours_.end());
-    neighbours_.erase(std::unique(neighbours_.begin() + static_cast<std::ptrdiff_t>(first), neighbours_.end()),
-                      neighbours_.end());
-    neighbour_first_[a + 1] = neighbours_.size();
-  }
-  neighbour_marks_.clear();
 }
 
 void BoxGridBroadPhase::choose_grid() {
@@ -261,14 +231,10 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
     partner_count_.resize(n);
     run_start_.resize(n);
   }
-  const Index* neighbours = neighbours_.data();
-  const std::uint64_t* neighbour_first = neighbour_first_.data();
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
     std::vector<TrianglePair>& out = block_pairs_[block];
     out.clear();
     std::vector<Index>& candidates = block_candidates_[block];
-    std::vector<Index>& marks = neighbour_marks_.local();
-    if (marks.size() != n) marks.assign(n, 0);
     std::size_t tests = 0, culled = 0;
     const std::size_t end = std::min(n, (block + 1) * kBlock);
     for (std::size_t q = block * kBlock; q < end; ++q) {
@@ -308,41 +274,25 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
           }
         }
       }
-      // ... less a's neighbours, whose pairs are known to be kept ...
-      const Index* a_neighbours = neighbours + neighbour_first[a];
-      const Index* a_neighbours_end = neighbours + neighbour_first[a + 1];
-      for (const Index* b = a_neighbours; b != a_neighbours_end; ++b) marks[*b] = a + 1;
-      Index* kept = candidates.data();
-      std::size_t far = 0;
-      for (std::size_t h = 0; h < count; ++h) {
-        kept[far] = kept[h];
-        far += marks[kept[h]] != a + 1;
-      }
-      // ... then the others' DOPs, fetched all at once first: in a mesh whose
+      // ... then their DOPs, fetched all at once first: in a mesh whose
       // triangle order is not spatial (cloth-ball's) each is a cache miss,
       // and waiting for them one by one was a quarter of this stage.
-      for (std::size_t h = 0; h < far; ++h) {
+      const Index* kept = candidates.data();
+      for (std::size_t h = 0; h < count; ++h) {
         const char* dop = reinterpret_cast<const char*>(&dops[kept[h]]);
         __builtin_prefetch(dop);
         __builtin_prefetch(dop + 64);
         __builtin_prefetch(dop + sizeof(Dop18) - 1);
       }
       const Dop18& da = dops[a];
-      std::size_t overlapping = 0;
-      for (std::size_t h = 0; h < far; ++h) {
-        kept[overlapping] = kept[h];
-        overlapping += dop_overlap(da, dops[kept[h]]);
-      }
-      culled += far - overlapping;
-      std::sort(kept, kept + overlapping);
-      // a's pairs: the two sorted lists merged.
       const std::size_t first_out = out.size();
-      const Index* k = kept;
-      const Index* k_end = kept + overlapping;
-      const Index* nb = a_neighbours;
-      while (k != k_end && nb != a_neighbours_end) out.push_back({a, *k < *nb ? *k++ : *nb++});
-      for (; k != k_end; ++k) out.push_back({a, *k});
-      for (; nb != a_neighbours_end; ++nb) out.push_back({a, *nb});
+      for (std::size_t h = 0; h < count; ++h) {
+        if (dop_overlap(da, dops[kept[h]]))
+          out.push_back({a, kept[h]});
+        else
+          ++culled;
+      }
+      std::sort(out.begin() + static_cast<std::ptrdiff_t>(first_out), out.end());
       if (query_order) {
         run_start_[a] = first_out;
         partner_count_[a] = static_cast<std::uint32_t>(out.size() - first_out);
@@ -377,8 +327,6 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
                         partner_count_.capacity() * sizeof(std::uint32_t) +
                         run_start_.capacity() * sizeof(std::size_t) +
                         first_pair_.capacity() * sizeof(std::uint64_t) +
-                        neighbour_first_.capacity() * sizeof(std::uint64_t) +
-                        neighbours_.capacity() * sizeof(Index) +
                         pairs.capacity() * sizeof(TrianglePair);
 }
 

@@ -17,11 +17,8 @@
 //      b > a are read, half of a cell on average), without branches, for
 //      boxes that overlap a's, keeping the pair only in the cell that holds
 //      the low corner of the two boxes' intersection (so it is found once,
-//      without a sort and unique); a's neighbours (triangles sharing a
-//      vertex, listed once in build()) are dropped, since their DOPs both
-//      hold the shared vertex and always overlap; then the 18-DOPs of the
-//      others are fetched together (prefetches) and tested;
-//      a's pairs are the survivors merged with its neighbours b > a;
+//      without a sort and unique); then the 18-DOPs of those are fetched
+//      together (prefetches) and tested;
 //   4. a's partners are sorted (a handful) and the blocks concatenated in
 //      order (or, in the spatial order, each a's run copied to its place in
 //      triangle order), so the output is sorted and the same for every
@@ -45,7 +42,6 @@
 // low-corner rule for reporting a pair once); Klosowski et al. 1998 (k-DOPs).
 #pragma once
 
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/task_arena.h>
 
 #include <cstdint>
@@ -80,9 +76,6 @@ class BoxGridBroadPhase : public BroadPhase {
   /// The pairs of the block outputs, found in the spatial query order, into
   /// `pairs` sorted.
   void put_back_in_triangle_order(std::vector<TrianglePair>& pairs);
-  /// Lists, for every triangle a, the triangles b > a that share a vertex
-  /// with it (neighbour_first_, neighbours_).
-  void list_neighbours();
 
   const Scene* scene_ = nullptr;
   BroadPhaseSettings settings_;
@@ -134,16 +127,6 @@ class BoxGridBroadPhase : public BroadPhase {
   std::vector<std::vector<TrianglePair>> block_pairs_;
   std::vector<std::vector<Index>> block_candidates_;  ///< per block: a triangle's boxes that overlap, before the DOPs
   std::vector<std::size_t> block_tests_, block_culled_;
-  /// Triangles sharing a vertex: their DOPs both hold that vertex, so they
-  /// always overlap, and each a's neighbours b > a are in T_root without a
-  /// DOP test (on a cloth most of the pairs): neighbours_ from
-  /// neighbour_first_[a] to neighbour_first_[a + 1], sorted. Made in build().
-  std::vector<std::uint64_t> neighbour_first_;  ///< #F + 1
-  std::vector<Index> neighbours_;
-  /// Per worker thread, #F: marks[b] == a + 1 while a's query runs when b is
-  /// a neighbour of a (each a is queried once per detection and always
-  /// marks the same neighbours, so old marks never mislead).
-  tbb::enumerable_thread_specific<std::vector<Index>> neighbour_marks_;
 };
 
 }  // namespace snag
