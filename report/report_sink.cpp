@@ -1,6 +1,7 @@
 #include "report/report_sink.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace snag::report {
 
@@ -17,7 +18,7 @@ ReportSink::ReportSink(const Scene& scene, const Header& header, const RuleSet& 
       rules_(rules),
       writer_(writer),
       redecide_(std::move(redecide)),
-      regions_(scene),
+      digester_(scene, rules),
       tracks_(scene) {
   trailer_.allow_counts.assign(rules_.rules().allow.size(), 0);
   if (writer_) writer_->write_header(header_);
@@ -74,90 +75,33 @@ EventRecord ReportSink::event_record(const Event& e) const {
 }
 
 void ReportSink::frame(ScannedFrame& frame) {
-  std::vector<Event>& events = *frame.events;
-  if (redecide_ && frame.x_next) redecide_(*frame.x, *frame.x_next, events);
+  if (redecide_ && frame.x_next) redecide_(*frame.x, *frame.x_next, *frame.events);
+  digester_.digest(frame, digest_);
+  join(digest_);
+}
 
-  FrameRecord record;
-  record.position = frame.position;
-  record.index = frame.summary.frame;
-  record.time = frame.time;
-  in_region_.clear();
-  allowed_by_.clear();
-  in_region_.reserve(events.size());
-  allowed_by_.reserve(events.size());
-  // Per pair and kind, this frame's checked events: for frames affected and the worst frame.
-  std::map<PairKey, std::size_t> checked_here;
-  // The events of a pair come in long runs: the last pair's summary and
-  // count are kept at hand instead of two map look-ups per event.
-  PairKey last_key{-1, 0, 0};
-  PairSummary* last_summary = nullptr;
-  std::size_t* last_checked = nullptr;
-  // The kept events are moved down in place (the scan lets the sink remove
-  // events): nothing is copied while no rule drops any.
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < events.size(); ++i) {
-    const Event& e = events[i];
-    const Disposition d = rules_.classify(e);
-    if (d.kind == Disposition::kNotChecked) {
-      ++trailer_.not_checked;
-      continue;
-    }
-    if (d.kind == Disposition::kNeighbourhood) {
-      ++trailer_.neighbourhood;
-      continue;
-    }
-    const auto [a, b] = event_objects(scene_, e);
-    const PairKey key{static_cast<int>(e.kind), a, b};
-    if (key != last_key) {
-      last_key = key;
-      last_summary = &pair(e.kind, a, b);
-      last_checked = nullptr;
-    }
-    PairSummary& summary = *last_summary;
-    if (kept != i) events[kept] = e;
-    ++kept;
-    if (d.kind == Disposition::kAllowed) {
-      in_region_.push_back(0);
-      allowed_by_.push_back(d.rule);
-      ++record.allowed;
-      ++summary.allowed;
-      ++trailer_.allowed;
-      ++trailer_.allow_counts[d.rule];
-      continue;
-    }
-    in_region_.push_back(1);
-    allowed_by_.push_back(kNone);
-    ++summary.events;
-    if (!last_checked) last_checked = &checked_here[key];
-    ++*last_checked;
-    if (e.kind == EventKind::kCollision) {
-      ++record.collisions;
-      record.vf += e.type == ContactType::kVertexFace;
-      record.ee += e.type == ContactType::kEdgeEdge;
-      record.uncertain += e.certainty == Certainty::kUncertain;
-    } else {
-      ++record.intersections;
-    }
-  }
-  events.resize(kept);
-  for (const auto& [key, count] : checked_here) {
-    PairSummary& summary = pair(static_cast<EventKind>(std::get<0>(key)), std::get<1>(key), std::get<2>(key));
+void ReportSink::join(FrameDigest& digest) {
+  const std::size_t listed = events_to_list(header_.settings, trailer_.listed, digest.kept);
+  if (listed > digest.listable) throw std::logic_error("a frame's digest lacks events that the report lists");
+  const FrameRecord& record = digest.record;
+  for (const PairCounts& counts : digest.pairs) {
+    PairSummary& summary = pair(counts.kind, counts.object_a, counts.object_b);
+    summary.events += counts.checked;
+    summary.allowed += counts.allowed;
+    if (counts.checked == 0) continue;
     ++summary.frames;
-    if (count > summary.worst_frame_events) {
-      summary.worst_frame_events = count;
+    if (counts.checked > summary.worst_frame_events) {
+      summary.worst_frame_events = counts.checked;
       summary.worst_frame = record.index;
     }
   }
-
-  frame_regions_.clear();
-  regions_.build(events, in_region_, *frame.x, record.index, frame_regions_, region_of_);
-  for (RegionRecord& region : frame_regions_) {
+  std::vector<RegionRecord>& regions = digest.regions;
+  for (RegionRecord& region : regions) {
     region.id = next_region_++;
     ++pair(region.kind, region.object_a, region.object_b).regions;
   }
   ended_.clear();
-  tracks_.add_frame(frame.position, record.index, frame_regions_, ended_);
-  record.regions = frame_regions_.size();
+  tracks_.add_frame(record.position, record.index, regions, ended_);
 
   trailer_.frames += 1;
   trailer_.events += record.collisions + record.intersections;
@@ -166,27 +110,27 @@ void ReportSink::frame(ScannedFrame& frame) {
   trailer_.ee += record.ee;
   trailer_.uncertain += record.uncertain;
   trailer_.intersections += record.intersections;
-  trailer_.regions += frame_regions_.size();
+  trailer_.regions += regions.size();
+  trailer_.allowed += record.allowed;
+  trailer_.not_checked += digest.not_checked;
+  trailer_.neighbourhood += digest.neighbourhood;
+  for (std::size_t rule = 0; rule < digest.allow_counts.size(); ++rule) {
+    trailer_.allow_counts[rule] += digest.allow_counts[rule];
+  }
 
   if (writer_) writer_->write_frame(record);
-  std::size_t listed = events.size();
-  if (header_.settings.events != "all") {
-    listed = 0;
-  } else if (header_.settings.max_events > 0) {
-    listed = std::min(listed, header_.settings.max_events - std::min(header_.settings.max_events, trailer_.listed));
-  }
   if (writer_) {
     writer_->write_events(listed, [&](std::size_t i) {
-      EventRecord out = event_record(events[i]);
-      out.region = region_of_[i] == kNone ? kNone : frame_regions_[region_of_[i]].id;
-      out.allowed = allowed_by_[i];
+      EventRecord out = event_record(digest.events[i]);
+      out.region = digest.region_of[i] == kNone ? kNone : regions[digest.region_of[i]].id;
+      out.allowed = digest.allowed_by[i];
       return out;
     });
   }
   trailer_.listed += listed;
-  trailer_.left_out += events.size() - listed;
+  trailer_.left_out += digest.kept - listed;
   if (writer_) {
-    for (const RegionRecord& region : frame_regions_) writer_->write_region(region);
+    for (const RegionRecord& region : regions) writer_->write_region(region);
   }
   end_tracks(ended_);
 }

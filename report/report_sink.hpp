@@ -1,5 +1,6 @@
 // The scan's side of the report: takes each frame from the scan (a
-// ScanSink), applies the rules, builds regions and tracks, writes the
+// ScanSink), digests it (rules and regions: frame_digest.hpp), joins the
+// digest to the run (region ids, tracks, the event cap, totals), writes the
 // frame's records, and keeps only running totals, so that the scan's memory
 // does not grow with the number of frames or events.
 #pragma once
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "libcd/pipeline/scan.hpp"
+#include "report/frame_digest.hpp"
 #include "report/regions.hpp"
 #include "report/report_writer.hpp"
 #include "report/rules.hpp"
@@ -29,6 +31,14 @@ class ReportSink : public ScanSink {
              Redecide redecide = {});
 
   void frame(ScannedFrame& frame) override;
+  /// Joins a frame digested elsewhere (with this sink's scene and rules) as
+  /// frame() joins its own digest: the frames of a run, in order, whether
+  /// digested here or there. Needs the first events_to_list() of the
+  /// digest's kept events listable; throws std::logic_error when they are
+  /// not. The digest's regions get their ids and tracks.
+  void join(FrameDigest& digest);
+
+  const RuleSet& rules() const { return rules_; }
 
   /// Ends the open tracks, judges the thresholds and writes the trailer
   /// (stages and timing: JSON objects as text). Returns the trailer.
@@ -45,15 +55,13 @@ class ReportSink : public ScanSink {
   const RuleSet& rules_;
   ReportWriter* writer_;
   Redecide redecide_;
-  RegionBuilder regions_;
+  FrameDigester digester_;
   TrackBuilder tracks_;
   std::size_t next_region_ = 0;
   Trailer trailer_;
   std::map<PairKey, PairSummary> pairs_;
   // Scratch reused frame after frame.
-  std::vector<char> in_region_;
-  std::vector<std::size_t> allowed_by_, region_of_;
-  std::vector<RegionRecord> frame_regions_;
+  FrameDigest digest_;
   std::vector<TrackRecord> ended_;
 };
 

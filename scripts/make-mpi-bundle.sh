@@ -10,6 +10,8 @@
 #   SNAG_CUDA_ARCHITECTURES  CUDA architectures (default 90: H100/H200)
 #   JOBS                     parallel build jobs (default 2)
 #   SNAG_BUNDLE_LIMIT_MIB    largest compressed bundle allowed, MiB (default 64)
+#   SNAG_OLD_SCAN            another snag-scan built the same way (an earlier commit's),
+#                            packed as bin/snag-scan-old for mpi-scaling.sh to compare
 #
 # Writes .mpi-bundle/ and .mpi-bundle.tar.xz:
 #   bin/snag-scan              Release, CUDA and MPI, no OpenVDB or assimp, stripped
@@ -46,6 +48,7 @@ rm -rf "$bundle"
 mkdir -p "$bundle/bin" "$bundle/lib" "$bundle/ompi/bin" "$bundle/ompi/$multiarch/openmpi" \
   "$bundle/ompi/share" "$bundle/pmix2"
 cp "$build/tools/snag-scan" "$bundle/bin/"
+if [ -n "${SNAG_OLD_SCAN:-}" ]; then cp "$SNAG_OLD_SCAN" "$bundle/bin/snag-scan-old"; fi
 cp /usr/bin/orterun "$bundle/ompi/bin/mpirun"
 cp /usr/bin/orted "$bundle/ompi/bin/"
 cp -r "$ompi_lib" "$bundle/ompi/$multiarch/openmpi/"
@@ -86,7 +89,7 @@ machine_library() {
   cp -L "$file" "$bundle/lib/$soname"
   chmod u+w "$bundle/lib/$soname"
 done
-strip --strip-unneeded "$bundle/bin/snag-scan" "$bundle/ompi/bin/"* "$bundle/lib/"*.so* 2>/dev/null || true
+strip --strip-unneeded "$bundle/bin/"* "$bundle/ompi/bin/"* "$bundle/lib/"*.so* 2>/dev/null || true
 
 cp scripts/mpi-run.sh scripts/mpi-scaling.sh scripts/mpi-make-cloth.py bench/report/make_long_cache.py "$bundle/"
 {

@@ -7,6 +7,10 @@
 # and whether each report is the one process's (all but the process measures:
 # the trailer's timing and the stages' peak_memory_bytes).
 #
+# With bin/snag-scan-old in the bundle (make-mpi-bundle.sh's SNAG_OLD_SCAN),
+# each rank count runs that build too, rows marked "old", against the same
+# one process. NEW_MERGE_COST: SNAG_MPI_MERGE_COST for the new build's ranks only.
+#
 # Usage:  mpi-scaling.sh WORKDIR FRAMES N RANKS... [-- snag-scan options]
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -62,11 +66,24 @@ one=$(seconds env LD_LIBRARY_PATH="$libraries" "$here/bin/snag-scan" "${inputs[@
 python3 -c "import json; t=json.loads(open('$work/one.jsonl').readlines()[-1]); s=t['summary'];
 h=json.loads(open('$work/one.jsonl').readline())
 print('one process (%s): %s s; %d events, %d regions, %d tracks; report %.2f s of it (%.3f of the scan: a merge cost)' % (h['settings']['backend'], '$one', s['events'], s['regions'], s['tracks'], t['timing']['report'], t['timing']['report'] / t['timing']['total']))"
-# after last: rank 0's seconds once the other ranks were done (the trailer's timing.after_last_rank).
-printf '%-6s %10s %9s %11s %10s %11s\n' ranks seconds speed-up efficiency identical 'after last'
+# after last: rank 0's seconds once the other ranks were done (the trailer's
+# timing.after_last_rank); merge cost: rank 0's join time per frame of the
+# other ranks' parts (timing.join) over the one process's time per frame.
+builds=(new)
+[ -x "$here/bin/snag-scan-old" ] && builds+=(old)
+printf '%-10s %10s %9s %11s %10s %11s %11s\n' ranks seconds speed-up efficiency identical 'after last' 'merge cost'
 for k in "${ranks[@]}"; do
-  t=$(seconds "$here/mpi-run.sh" -n "$k" --bind-to none "$here/bin/snag-scan" "${inputs[@]}" -r "$work/$k.jsonl") || exit 1
-  after=$(python3 -c "import json; print(round(json.loads(open('$work/$k.jsonl').readlines()[-1])['timing'].get('after_last_rank', 0), 3))")
-  printf '%-6s %10.2f %9.2f %11.2f %10s %11s\n' "$k" "$t" "$(calc "$one / $t")" "$(calc "$one / $t / $k")" \
-    "$(same_report "$work/one.jsonl" "$work/$k.jsonl")" "$after"
+  for build in "${builds[@]}"; do
+    exe=$here/bin/snag-scan label=$k cost_setting=()
+    [ -n "${NEW_MERGE_COST:-}" ] && cost_setting=(SNAG_MPI_MERGE_COST="$NEW_MERGE_COST")
+    [ "$build" = old ] && exe=$here/bin/snag-scan-old label="$k old" cost_setting=()
+    report=$work/$k-$build.jsonl
+    t=$(seconds env "${cost_setting[@]}" "$here/mpi-run.sh" -n "$k" --bind-to none "$exe" "${inputs[@]}" -r "$report") || exit 1
+    read -r after cost < <(python3 -c "import json; t=json.loads(open('$report').readlines()[-1])['timing']
+frames = t.get('joined_frames', 0)
+cost = t['join'] / frames / ($one / $frames) if frames else float('nan')
+print(round(t.get('after_last_rank', 0), 3), round(cost, 4) if frames else '-')")
+    printf '%-10s %10.2f %9.2f %11.2f %10s %11s %11s\n' "$label" "$t" "$(calc "$one / $t")" "$(calc "$one / $t / $k")" \
+      "$(same_report "$work/one.jsonl" "$report")" "$after" "$cost"
+  done
 done

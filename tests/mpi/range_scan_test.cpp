@@ -1,8 +1,8 @@
 // A scan split into ranges and joined again (what snag-scan does over MPI,
 // without MPI): the ranges cover every step once, and the first range
-// scanned straight into the report's sink with the others replayed from
-// their parts gives the report one scan gives, byte for byte but for the
-// times. The oracle is the single scan itself.
+// scanned straight into the report's sink with the others digested into
+// their parts and joined gives the report one scan gives, byte for byte but
+// for the times. The oracle is the single scan itself.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -218,7 +218,8 @@ class SplitScan : public ::testing::Test {
     // Scanned in reverse, as ranks finish in any order.
     std::vector<std::string> stages;
     for (std::size_t r = parts; r-- > 1;) {
-      report::PartWriter part(dir + "/part-" + std::to_string(r), redecide_);
+      report::PartWriter part(dir + "/part-" + std::to_string(r), source_->scene(), *rules_, header_.settings,
+                              redecide_);
       const ScanTotals totals = scan_range(*source_, ranges[r], *backend_, ScanSettings{}, part);
       part.finish({totals.frames, stages_json(totals), "{}"});
     }
@@ -253,7 +254,7 @@ class SplitScan : public ::testing::Test {
 
   // The second of two ranges, written whole into a part at `path`.
   void write_second_half(const std::string& path) {
-    report::PartWriter part(path, redecide_);
+    report::PartWriter part(path, source_->scene(), *rules_, header_.settings, redecide_);
     const ScanTotals totals =
         scan_range(*source_, split_steps(source_->frame_count(), 2)[1], *backend_, ScanSettings{}, part);
     part.finish({totals.frames, stages_json(totals), "{}"});
@@ -290,6 +291,14 @@ TEST_F(SplitScan, ThreeRangesGiveTheSingleScanReport) {
     }
   }
   ASSERT_TRUE(crossing) << "no track crosses a range boundary: the test checks nothing there";
+  // The cap is reached in a later range than the first: the ranks' parts
+  // hold the events that the join lists after rank 0's.
+  std::size_t last_listed_frame = 0;
+  std::istringstream events(whole.report);
+  for (std::string line; std::getline(events, line);) {
+    if (line.rfind("{\"record\":\"event\"", 0) == 0) last_listed_frame = nlohmann::json::parse(line)["frame"];
+  }
+  ASSERT_GE(last_listed_frame, source_->frame_index(ranges[1].first)) << "the cap falls in the first range";
   EXPECT_EQ(split.stages_json, whole.stages_json);
   EXPECT_EQ(split.report, whole.report);
 }
@@ -297,6 +306,35 @@ TEST_F(SplitScan, ThreeRangesGiveTheSingleScanReport) {
 // The parts read while they are written, over uneven ranges (rank 0's
 // smaller first range), give the same report.
 TEST_F(SplitScan, PartsFollowedWhileWrittenGiveTheSingleScanReport) { expect_split_gives_whole(3, true, 0.3); }
+
+// What the report lists decides what the parts hold (every event, up to the
+// cap, none): each way, the joined report is the single scan's. A cap of 10
+// is reached in the first range, 0 is no cap.
+TEST_F(SplitScan, EveryListingGivesTheSingleScanReport) {
+  const std::pair<std::string, std::size_t> listings[] = {{"all", 0}, {"all", 10}, {"regions", 0}, {"none", 0}};
+  for (const auto& [events, cap] : listings) {
+    header_.settings.events = events;
+    header_.settings.max_events = cap;
+    SCOPED_TRACE(events + " " + std::to_string(cap));
+    expect_split_gives_whole(3, false, 0.3);
+  }
+}
+
+// The join lists events from the digests; a digest (a part) that holds fewer
+// than the report lists is a broken run, never a shorter report.
+TEST_F(SplitScan, JoinRefusesADigestWithoutTheEventsItLists) {
+  report::ReportSink sink(source_->scene(), header_, *rules_, nullptr);
+  report::FrameDigest digest;
+  digest.record.collisions = 2;
+  digest.kept = 2;
+  digest.listable = 1;
+  const Event event{};
+  digest.events = &event;
+  digest.allowed_by.assign(1, report::kNone);
+  digest.region_of.assign(1, report::kNone);
+  digest.allow_counts.assign(rules_->rules().allow.size(), 0);
+  EXPECT_THROW(sink.join(digest), std::logic_error);
+}
 
 // A writer that finishes short, or never writes its part: the reader says so
 // instead of waiting for ever.

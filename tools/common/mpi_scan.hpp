@@ -1,10 +1,11 @@
 // snag-scan over MPI: rank r scans the r-th range of steps (range_scan.hpp)
-// on the GPU its local rank picks, or on the CPU, and stores its frames in a
-// part (report/scan_part.hpp); rank 0 scans the first range straight into
-// the report's sink, then replays the other parts in order into it, so that
-// one report comes out, identical to one process's but for the times. Rank
-// 0 replays a part while its rank still writes it, and scans a smaller
-// range than the others (split_steps' first_share) to make time for that.
+// on the GPU its local rank picks, or on the CPU, digests its frames (rules
+// and regions) and stores the digests in a part (report/scan_part.hpp); rank
+// 0 scans the first range straight into the report's sink, then joins the
+// other parts in order into it (region ids, tracks, the event cap, totals),
+// so that one report comes out, identical to one process's but for the
+// times. Rank 0 joins a part while its rank still writes it, and scans a
+// smaller range than the others (split_steps' merge cost) to make time for that.
 //
 // Failure: a rank that throws tells rank 0 (its exit code and message);
 // rank 0 stops the others, removes the parts and the unfinished report, and
@@ -65,21 +66,23 @@ class Run {
 
   /// Ranks > 0: scans this rank's range of `ranges` (split_steps over
   /// size()) into its part, re-deciding each step's events with
-  /// `redecide`; stops (throws) when rank 0 says so.
+  /// `redecide` and digesting each frame under `rules` and `report`'s
+  /// listing (report/scan_part.hpp); stops (throws) when rank 0 says so.
   void scan_part(const FrameSource& source, const std::vector<StepRange>& ranges, Backend& backend,
-                 const ScanSettings& settings, report::PartRedecide redecide);
+                 const ScanSettings& settings, const report::RuleSet& rules, const report::ReportSettings& report,
+                 report::PartRedecide redecide);
 
   /// What rank 0 passes to the report's trailer.
   struct Totals {
     std::string stages_json, timing_json;
     double total_seconds = 0;
   };
-  /// Rank 0: scans the first of `ranges` into `sink`, then each other rank's
-  /// part in rank order, following it while its rank writes it. With other
+  /// Rank 0: scans the first of `ranges` into `sink`, then joins each other
+  /// rank's part in rank order, following it while its rank writes it. With other
   /// ranks, the timing gets "after_last_rank": rank 0's seconds from the
   /// last other rank's end to its own. Throws what it or a rank threw.
   Totals scan_and_merge(const FrameSource& source, const std::vector<StepRange>& ranges, Backend& backend,
-                        const ScanSettings& settings, ScanSink& sink, const ProgressCallback& progress);
+                        const ScanSettings& settings, report::ReportSink& sink, const ProgressCallback& progress);
 
   /// Rank 0: waits until every other rank has finished and returns the
   /// largest of their exit codes. Throws when one failed.
