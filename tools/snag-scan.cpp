@@ -13,6 +13,7 @@
 #include <set>
 
 #include "libcd/core/error.hpp"
+#include "libcd/cpu/cpu_backend.hpp"
 #include "libcd/pipeline/pair_thickness.hpp"
 #include "libcd/pipeline/scan.hpp"
 #include "report/report_sink.hpp"
@@ -45,6 +46,7 @@ struct ScanOptions {
   std::string mode = "all";
   double thickness = 0;
   std::string backend = "auto";
+  std::string grid = "uniform";  ///< --grid: adaptive picks the CPU back end's adaptive grid
   unsigned threads = 0;
   double lambda = 1.2;
   std::size_t device_memory = 0;  ///< --device-memory, bytes (0: what the GPU has free)
@@ -61,7 +63,11 @@ struct ScanOptions {
 // auto: the CUDA back end when this build has it and a usable device is
 // present, else the CPU one. cuda: the CUDA back end or a usage error (exit 2)
 // saying why it cannot run.
-std::unique_ptr<snag::Backend> choose_backend(const std::string& requested) {
+std::unique_ptr<snag::Backend> choose_backend(const std::string& requested, const std::string& grid) {
+  if (grid == "adaptive") {
+    if (requested == "cuda") throw snag::UsageError("--grid adaptive: the CUDA back end has no adaptive grid yet");
+    return snag::make_cpu_backend(snag::CpuBackendOptions{snag::BroadPhaseMethod::kAdaptiveGrid});
+  }
   if (requested == "cpu") return snag::make_cpu_backend();
 #if SNAG_HAVE_CUDA
   const snag::CudaDeviceInfo device = snag::query_cuda_device();
@@ -129,7 +135,7 @@ int scan(const snag::tools::CacheArguments& cache, const snag::tools::RuleArgume
   const snag::Scene& scene = source->scene();
   check_object_names(scene);
   const snag::report::RuleSet rules(scene, setup.rules, setup.thickness);
-  auto backend = choose_backend(options.backend);
+  auto backend = choose_backend(options.backend, options.grid);
 
   snag::BackendSettings backend_settings;
   backend_settings.lambda = options.lambda;
@@ -287,6 +293,8 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("-b,--backend", options.backend, "auto, cpu or cuda")
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
+  app.add_option("--grid", options.grid, "uniform, or adaptive (crowded cells subdivided; the CPU back end)")
+      ->check(CLI::IsMember({"uniform", "adaptive"}));
   app.add_option("-j,--threads", options.threads, "CPU threads (0 = all cores)");
   app.add_option("--lambda", options.lambda, "Cell-size coefficient of the CUDA back end's grid: cell = 3 x lambda x mean triangle radius (the CPU back end's box grid does not use it)")
       ->check(CLI::Range(1.0001, 100.0));
