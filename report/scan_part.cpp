@@ -50,6 +50,7 @@ class PartFile {
   PartFile& operator=(const PartFile&) = delete;
 
   void read(void* data, std::size_t bytes) {
+    if (bytes == 0) return;  // an empty vector's data() may be null, which fread must not get
     auto* to = static_cast<char*>(data);
     std::size_t got = std::fread(to, 1, bytes, file_);
     // At the end of what was written: wait for the writer, then read once
@@ -112,6 +113,7 @@ PartWriter::~PartWriter() {
 }
 
 void PartWriter::write(const void* data, std::size_t bytes) {
+  if (bytes == 0) return;  // an empty vector's data() may be null, which fwrite must not get
   if (std::fwrite(data, 1, bytes, file_) != bytes) {
     throw part_error(path_, kNone, std::string("cannot write the part: ") + std::strerror(errno));
   }
