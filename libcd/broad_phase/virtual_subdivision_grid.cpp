@@ -28,6 +28,21 @@ struct PairCounts {
   std::size_t same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culled = 0;
 };
 
+/// The two rules every cell applies before its own: leaves of one root are
+/// never tested, nor leaves whose time slots do not nest. Counts which one
+/// rejected the pair.
+bool leaves_may_meet(const VirtualTriangle& a, const VirtualTriangle& b, PairCounts& counts) {
+  if (a.root == b.root) {
+    ++counts.same_root;
+    return false;
+  }
+  if (!slots_nested(a, b)) {
+    ++counts.time_slots;
+    return false;
+  }
+  return true;
+}
+
 /// Counts one test of roots ra, rb that passed the cell's rule: kept when the
 /// DOPs overlap, else culled (its key kept only to count culled duplicates).
 void record_dop_test(bool overlap, Index ra, Index rb, bool count_culled, PairCounts& counts,
@@ -151,14 +166,7 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
                   std::vector<std::uint64_t>& kept, std::vector<std::uint64_t>& culled) {
     const RegisteredLeaf& a = registered[lists.first[c] + i];
     const RegisteredLeaf& b = registered[lists.first[c] + j];
-    if (a.triangle.root == b.triangle.root) {
-      ++counts.same_root;
-      return;
-    }
-    if (!slots_nested(a.triangle, b.triangle)) {
-      ++counts.time_slots;
-      return;
-    }
+    if (!leaves_may_meet(a.triangle, b.triangle, counts)) return;
     switch (cell_pair_verdict(grid_, a.cells, b.cells, lists.cell_ids[c])) {
       case CellPairVerdict::kSkipControlBits: ++counts.control_bits; return;
       case CellPairVerdict::kSkipExtendedBits: ++counts.extended; return;
@@ -206,14 +214,7 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::adaptive_pair_tests() 
     const std::uint32_t la = tree.members[cell.first + i], lb = tree.members[cell.first + j];
     const Leaf& a = leaves_[la];
     const Leaf& b = leaves_[lb];
-    if (a.triangle.root == b.triangle.root) {
-      ++counts.same_root;
-      return;
-    }
-    if (!slots_nested(a.triangle, b.triangle)) {
-      ++counts.time_slots;
-      return;
-    }
+    if (!leaves_may_meet(a.triangle, b.triangle, counts)) return;
     if (!adaptive_cell_owns_pair(tree.blocks[la], tree.blocks[lb], tree.depth, cell.level, cell.coord)) {
       ++counts.control_bits;
       return;
