@@ -120,7 +120,8 @@ void PartWriter::write(const void* data, std::size_t bytes) {
 }
 
 template <typename T>
-void PartWriter::write_vector(const std::vector<T>& values, std::size_t count) {
+void PartWriter::write_vector(const std::vector<T>& values) {
+  const std::size_t count = values.size();
   write(&count, sizeof count);
   write(values.data(), count * sizeof(T));
 }
@@ -137,8 +138,8 @@ void PartWriter::frame(ScannedFrame& frame) {
   write(&d.record, sizeof d.record);
   write(&d.not_checked, sizeof d.not_checked);
   write(&d.neighbourhood, sizeof d.neighbourhood);
-  write_vector(d.allow_counts, d.allow_counts.size());
-  write_vector(d.pairs, d.pairs.size());
+  write_vector(d.allow_counts);
+  write_vector(d.pairs);
   const std::size_t regions = d.regions.size();
   write(&regions, sizeof regions);
   for (const RegionRecord& r : d.regions) {
@@ -150,8 +151,8 @@ void PartWriter::frame(ScannedFrame& frame) {
     write(&r.bounds, sizeof r.bounds);
     write(&r.centroid, sizeof r.centroid);
     write(&r.toi, sizeof r.toi);
-    write_vector(r.faces_a, r.faces_a.size());
-    write_vector(r.faces_b, r.faces_b.size());
+    write_vector(r.faces_a);
+    write_vector(r.faces_b);
   }
   write(&d.kept, sizeof d.kept);
   write(&d.listable, sizeof d.listable);

@@ -58,7 +58,7 @@ class PartWriter : public ScanSink {
  private:
   void write(const void* data, std::size_t bytes);
   template <typename T>
-  void write_vector(const std::vector<T>& values, std::size_t count);  ///< count, then values[0 .. count)
+  void write_vector(const std::vector<T>& values);  ///< its size, then its values
   std::string path_;
   std::FILE* file_ = nullptr;
   ReportSettings settings_;
