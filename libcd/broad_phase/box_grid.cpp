@@ -37,6 +37,9 @@ constexpr std::size_t kBlock = 256;
 /// 2,024 faces: about a tenth slower with it).
 constexpr std::size_t kSpatialQueriesFrom = 16384;
 
+/// No vertex has this id: it stands for a vertex of a that is not apart.
+constexpr Index kNoVertex = ~Index(0);
+
 
 }  // namespace
 
@@ -203,7 +206,7 @@ void BoxGridBroadPhase::choose_query_order() {
   for (std::size_t t = 0; t < n; ++t) query_order_[home_first_[home_cell(t)]++] = static_cast<Index>(t);
 }
 
-void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
+void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const unsigned char* apart) {
   const std::vector<Dop18>& dops = *dops_;
   const std::size_t n = dops.size();
   stats_.root_triangles = n;
@@ -219,6 +222,8 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
   block_candidates_.resize(blocks);
   block_tests_.assign(blocks, 0);
   block_culled_.assign(blocks, 0);
+  block_left_out_.assign(blocks, 0);
+  const std::vector<Triangle>& triangles = scene_->triangles();
   const std::size_t dim_x = static_cast<std::size_t>(dims_[0]), dim_y = static_cast<std::size_t>(dims_[1]);
   const Member* members = members_.data();
   const std::uint64_t* cell_first = cell_first_.data();
@@ -235,7 +240,7 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
     std::vector<TrianglePair>& out = block_pairs_[block];
     out.clear();
     std::vector<Index>& candidates = block_candidates_[block];
-    std::size_t tests = 0, culled = 0;
+    std::size_t tests = 0, culled = 0, left_out = 0;
     const std::size_t end = std::min(n, (block + 1) * kBlock);
     for (std::size_t q = block * kBlock; q < end; ++q) {
       const Index a = query_order ? query_order[q] : static_cast<Index>(q);
@@ -274,10 +279,34 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
           }
         }
       }
+      // ... without those that share an apart vertex with a (most of a
+      // cloth's pairs: its neighbours), ...
+      Index* kept = candidates.data();
+      if (apart) {
+        const Triangle& ta = triangles[a];
+        Index shared_if_apart[3];
+        bool any_apart = false;
+        for (int i = 0; i < 3; ++i) {
+          shared_if_apart[i] = apart[ta[i]] ? ta[i] : kNoVertex;
+          any_apart = any_apart || apart[ta[i]];
+        }
+        if (any_apart) {
+          std::size_t still = 0;
+          for (std::size_t h = 0; h < count; ++h) {
+            const Triangle& tb = triangles[kept[h]];
+            bool shares = false;
+            for (int i = 0; i < 3; ++i)
+              shares |= (tb[0] == shared_if_apart[i]) | (tb[1] == shared_if_apart[i]) | (tb[2] == shared_if_apart[i]);
+            kept[still] = kept[h];
+            still += !shares;
+          }
+          left_out += count - still;
+          count = still;
+        }
+      }
       // ... then their DOPs, fetched all at once first: in a mesh whose
       // triangle order is not spatial (cloth-ball's) each is a cache miss,
       // and waiting for them one by one was a quarter of this stage.
-      const Index* kept = candidates.data();
       for (std::size_t h = 0; h < count; ++h) {
         const char* dop = reinterpret_cast<const char*>(&dops[kept[h]]);
         __builtin_prefetch(dop);
@@ -300,10 +329,12 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs) {
     }
     block_tests_[block] = tests;
     block_culled_[block] = culled;
+    block_left_out_[block] = left_out;
   });
   for (std::size_t b = 0; b < blocks; ++b) {
     stats_.tests += block_tests_[b];
     stats_.culled_by_dop += block_culled_[b];
+    stats_.left_out_apart += block_left_out_[b];
   }
   if (!spatial_queries_) {
     // The blocks hold the triangles in order: concatenated, the output is sorted.
@@ -366,6 +397,17 @@ void BoxGridBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vec
 }
 
 void BoxGridBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) {
+  static_pairs(x, nullptr, pairs);
+}
+
+void BoxGridBroadPhase::detect_static_leaving_out(const std::vector<Vec3>& x, const std::vector<unsigned char>& apart,
+                                                  std::vector<TrianglePair>& pairs) {
+  if (apart.size() != x.size()) throw UsageError("broad phase: apart flags must have one per vertex");
+  static_pairs(x, apart.data(), pairs);
+}
+
+void BoxGridBroadPhase::static_pairs(const std::vector<Vec3>& x, const unsigned char* apart,
+                                     std::vector<TrianglePair>& pairs) {
   check_positions(scene_, x, "x");
   arena_->execute([&] {
     stats_ = BroadPhaseStats{};
@@ -383,7 +425,7 @@ void BoxGridBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<Tr
     });
     dops_ = &static_dops_;
     stats_.seconds_bounds = seconds_since(start);
-    triangle_pairs(pairs);
+    triangle_pairs(pairs, apart);
     stats_.candidates = pairs.size();
     stats_.seconds_total = seconds_since(start);
   });

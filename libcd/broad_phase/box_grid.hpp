@@ -17,8 +17,10 @@
 //      b > a are read, half of a cell on average), without branches, for
 //      boxes that overlap a's, keeping the pair only in the cell that holds
 //      the low corner of the two boxes' intersection (so it is found once,
-//      without a sort and unique); then the 18-DOPs of those are fetched
-//      together (prefetches) and tested;
+//      without a sort and unique); with detect_static_leaving_out, those
+//      sharing an apart vertex with a are dropped (vertex_fans.hpp: most of
+//      a cloth's pairs); then the 18-DOPs of the rest are fetched together
+//      (prefetches) and tested;
 //   4. a's partners are sorted (a handful) and the blocks concatenated in
 //      order (or, in the spatial order, each a's run copied to its place in
 //      triangle order), so the output is sorted and the same for every
@@ -60,11 +62,18 @@ class BoxGridBroadPhase : public BroadPhase {
   void detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<VertexFaceCandidate>& vf,
                   std::vector<EdgeEdgeCandidate>& ee) override;
   void detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) override;
+  /// detect_static without the pairs that share an apart vertex: they are
+  /// dropped after the box test, before their DOPs are read.
+  void detect_static_leaving_out(const std::vector<Vec3>& x, const std::vector<unsigned char>& apart,
+                                 std::vector<TrianglePair>& pairs) override;
   const BroadPhaseStats& stats() const override { return stats_; }
 
  private:
-  /// Triangle pairs whose DOPs (dops_, #F) overlap, sorted, into `pairs`.
-  void triangle_pairs(std::vector<TrianglePair>& pairs);
+  /// Triangle pairs whose DOPs (dops_, #F) overlap, sorted, into `pairs`;
+  /// with `apart` (#V flags), none that shares a flagged vertex.
+  void triangle_pairs(std::vector<TrianglePair>& pairs, const unsigned char* apart = nullptr);
+  /// detect_static's work, `apart` as in triangle_pairs.
+  void static_pairs(const std::vector<Vec3>& x, const unsigned char* apart, std::vector<TrianglePair>& pairs);
   /// Chooses the cell size and dimensions for the boxes of dops_.
   void choose_grid();
   /// Registers every triangle in the cells of its box (a stable counting
@@ -126,7 +135,7 @@ class BoxGridBroadPhase : public BroadPhase {
   // Output blocks, one per fixed range of the query order.
   std::vector<std::vector<TrianglePair>> block_pairs_;
   std::vector<std::vector<Index>> block_candidates_;  ///< per block: a triangle's boxes that overlap, before the DOPs
-  std::vector<std::size_t> block_tests_, block_culled_;
+  std::vector<std::size_t> block_tests_, block_culled_, block_left_out_;
 };
 
 }  // namespace snag

@@ -68,6 +68,9 @@ struct BroadPhaseStats {
   /// The duplicates among all tests after the control bits are the sum of the two.
   std::size_t duplicate_culled_tests = 0;
   std::size_t triangle_pairs = 0;                 ///< unique triangle pairs after DOP culling
+  /// detect_static_leaving_out: pairs sharing an apart vertex, left out
+  /// before the DOP test (not in tests' culled_by_dop nor triangle_pairs).
+  std::size_t left_out_apart = 0;
   // features
   std::size_t vf_before_culling = 0, vf_after_culling = 0;
   std::size_t ee_before_culling = 0, ee_after_culling = 0;
@@ -93,6 +96,15 @@ class BroadPhase {
 
   /// Static triangle pairs at positions x (#V). Throws like detect_ccd.
   virtual void detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) = 0;
+  /// detect_static, where a pair of triangles sharing a vertex v with
+  /// apart[v] != 0 (#V flags) may be left out: the caller has shown that
+  /// such pairs do not intersect (narrow_phase/vertex_fans.hpp). This
+  /// default leaves none out; the box grid leaves out all of them.
+  virtual void detect_static_leaving_out(const std::vector<Vec3>& x, const std::vector<unsigned char>& apart,
+                                         std::vector<TrianglePair>& pairs) {
+    (void)apart;
+    detect_static(x, pairs);
+  }
 
   /// Counts of the last detection.
   virtual const BroadPhaseStats& stats() const = 0;

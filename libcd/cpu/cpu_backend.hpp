@@ -16,9 +16,11 @@ namespace snag {
 
 struct CpuBackendOptions {
   BroadPhaseMethod broad_phase = BroadPhaseMethod::kBoxGrid;  ///< for CCD and static detection
-  /// The static test by frame: each triangle's projection axes once per
-  /// frame, the plane-side rejection for triangles that share no vertex and
-  /// the 2D exact-sign filter for neighbours, before the exact-sign test.
+  /// The static test by frame: the vertex fans shown apart once per frame
+  /// (narrow_phase/vertex_fans.hpp), whose pairs the broad phase may leave
+  /// out; each triangle's projection axes once per frame, the plane-side
+  /// rejection for triangles that share no vertex and the 2D exact-sign
+  /// filter for neighbours, before the exact-sign test.
   /// false: the CUDA back end's test, triangles_intersect pair by pair (the
   /// same answers; its predicate counts).
   bool frame_static_test = true;

@@ -35,7 +35,7 @@ void add_broad(BroadPhaseStats& total, const BroadPhaseStats& s) {
       &BroadPhaseStats::removed_by_control_bits, &BroadPhaseStats::removed_by_extended_control_bits,
       &BroadPhaseStats::fallback_tests, &BroadPhaseStats::tests_after_control_bits,
       &BroadPhaseStats::duplicate_root_pair_tests, &BroadPhaseStats::duplicate_culled_tests,
-      &BroadPhaseStats::culled_by_dop, &BroadPhaseStats::triangle_pairs,
+      &BroadPhaseStats::culled_by_dop, &BroadPhaseStats::triangle_pairs, &BroadPhaseStats::left_out_apart,
       &BroadPhaseStats::vf_before_culling, &BroadPhaseStats::vf_after_culling, &BroadPhaseStats::ee_before_culling,
       &BroadPhaseStats::ee_after_culling, &BroadPhaseStats::candidates};
   for (auto field : counters) total.*field += s.*field;

@@ -432,6 +432,71 @@ TEST(BoxGrid, TrianglesSharingVerticesGiveBruteForceSets) {
   EXPECT_TRUE(ours == theirs) << "box grid " << ours.size() << " pairs, brute force " << theirs.size();
 }
 
+// detect_static_leaving_out gives brute force's set without the pairs that
+// share a flagged vertex (whatever the flags), for every thread count and in
+// the spatial query order: a crumpled sheet with a fan and odd faces, and the
+// same sheet's triangles shuffled (over 16,384 of them, out of spatial order).
+TEST(BoxGrid, LeavingOutApartVerticesGivesBruteForceSetsWithoutTheirPairs) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0, 1);
+  auto sheet = [&](Index side) {
+    Soup soup;
+    std::vector<Triangle> tris;
+    for (Index j = 0; j < side; ++j)
+      for (Index i = 0; i < side; ++i)
+        soup.x_t0.push_back({double(i) + 0.3 * u(rng), double(j) + 0.3 * u(rng), 2.0 * u(rng)});
+    for (Index j = 0; j + 1 < side; ++j) {
+      for (Index i = 0; i + 1 < side; ++i) {
+        const Index v = j * side + i;
+        tris.push_back({v, v + 1, v + side});
+        tris.push_back({v + 1, v + side + 1, v + side});
+      }
+    }
+    tris.push_back(tris[10]);
+    tris.push_back({tris[50][0], tris[50][0], tris[50][2]});
+    soup.x_t1 = soup.x_t0;
+    soup.scene = Scene({make_object("sheet", static_cast<Index>(soup.x_t0.size()), tris)});
+    return soup;
+  };
+  const Soup small = sheet(40);
+  Soup shuffled = sheet(95);
+  std::vector<Triangle> tris = shuffled.scene.triangles();
+  std::shuffle(tris.begin(), tris.end(), rng);
+  shuffled.scene = Scene({make_object("shuffled sheet", static_cast<Index>(shuffled.x_t0.size()), tris)});
+  for (const Soup* soup : {&small, static_cast<const Soup*>(&shuffled)}) {
+    BruteForceBroadPhase brute;
+    brute.build(soup->scene, {});
+    std::vector<TrianglePair> all;
+    brute.detect_static(soup->x_t0, all);
+    for (const double share : {0.0, 0.3, 1.0}) {
+      std::vector<unsigned char> apart(soup->x_t0.size());
+      for (unsigned char& flag : apart) flag = u(rng) < share;
+      std::vector<TrianglePair> expected;
+      for (const TrianglePair& p : all) {
+        bool shares_apart = false;
+        for (const Index va : soup->scene.triangles()[p.a])
+          for (const Index vb : soup->scene.triangles()[p.b]) shares_apart = shares_apart || (va == vb && apart[va]);
+        if (!shares_apart) expected.push_back(p);
+      }
+      for (unsigned threads : {1u, 2u}) {
+        BroadPhaseSettings settings;
+        settings.threads = threads;
+        BoxGridBroadPhase grid;
+        grid.build(soup->scene, settings);
+        std::vector<TrianglePair> pairs;
+        grid.detect_static_leaving_out(soup->x_t0, apart, pairs);
+        EXPECT_TRUE(pairs == expected) << soup->scene.objects()[0].name << ", share " << share << ", threads "
+                                       << threads << ": " << pairs.size() << " pairs, expected " << expected.size();
+        EXPECT_EQ(grid.stats().left_out_apart, all.size() - expected.size());
+        // The plain detection after it leaves nothing out.
+        grid.detect_static(soup->x_t0, pairs);
+        EXPECT_TRUE(pairs == all);
+      }
+      if (share == 1.0) EXPECT_LT(expected.size(), all.size() / 4);
+    }
+  }
+}
+
 TEST(BoxGrid, RejectsPositionsOfTheWrongSize) {
   const Soup soup = random_soup(1, 10, false);
   BoxGridBroadPhase grid;

@@ -81,5 +81,45 @@ TEST(CpuBackend, OptionsChangeNoEventOnIntersectingSoups) {
   EXPECT_GT(intersections, 0u);
 }
 
+// Sheets from smooth (most neighbour pairs left out by the vertex fans) to
+// crumpled (neighbours that intersect, fans that fold), folded over onto
+// themselves at the end frame: the same intersections as pair by pair.
+TEST(CpuBackend, OptionsChangeNoEventOnCrumpledSheets) {
+  std::size_t collisions = 0, intersections = 0;
+  for (const double bump : {0.05, 0.6, 2.0}) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-0.5, 0.5);
+    const Index side = 30;
+    std::vector<Vec3> x_t0, x_t1;
+    std::vector<Triangle> tris;
+    for (Index j = 0; j < side; ++j) {
+      for (Index i = 0; i < side; ++i) {
+        const Vec3 p{double(i) + 0.4 * u(rng), double(j) + 0.4 * u(rng), bump * u(rng)};
+        x_t0.push_back(p);
+        // Folded about x = 15 back over the sheet, 0.3 above it.
+        x_t1.push_back(p.x < 15 ? p : Vec3{30 - p.x, p.y, 0.3 + bump * u(rng)});
+      }
+    }
+    for (Index j = 0; j + 1 < side; ++j) {
+      for (Index i = 0; i + 1 < side; ++i) {
+        const Index v = j * side + i;
+        tris.push_back({v, v + 1, v + side + 1});
+        tris.push_back({v, v + side + 1, v + side});
+      }
+    }
+    const Scene scene({make_object("sheet", static_cast<Index>(x_t0.size()), tris)});
+    expect_same_events(scene, x_t0, x_t1, "sheet, bump " + std::to_string(bump), collisions, intersections);
+    std::vector<Event> flat_events;
+    auto backend = make_cpu_backend();
+    backend->bind(scene, BackendSettings{});
+    backend->intersections(x_t0, flat_events);
+    if (bump == 0.05) {
+      EXPECT_TRUE(flat_events.empty());
+      EXPECT_GT(backend->stats().static_broad.left_out_apart, 5 * backend->stats().narrow.triangle_tests);
+    }
+  }
+  EXPECT_GT(intersections, 0u);
+}
+
 }  // namespace
 }  // namespace snag
