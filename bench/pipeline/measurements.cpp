@@ -448,6 +448,8 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
             {"broad_phase", stage_seconds(stages.static_broad)},
             {"triangle_tests_seconds", tests_seconds},
             {"events_seconds", narrow.seconds_static_events},
+            {"box_tests", stages.static_broad.tests},
+            {"left_out_apart", stages.static_broad.left_out_apart},
             {"triangle_tests", narrow.triangle_tests},
             {"predicate_calls", narrow.predicate_calls},
             {"predicate_exact", narrow.predicate_exact},

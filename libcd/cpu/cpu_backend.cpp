@@ -126,7 +126,7 @@ class CpuBackend final : public Backend {
     PredicateCounters axes_counters;
     compute_triangle_axes(triangles, x, axes_, axes_counters);
     tbb::combinable<StaticTestCounters> counters;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 1024), [&](const auto& range) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 256), [&](const auto& range) {
       test_pair_range(triangles, x, axes_, pairs_, range.begin(), range.end(), hit_, counters.local());
     });
     stats_.narrow.predicate_calls += axes_counters.calls;

@@ -11,7 +11,7 @@ void compute_triangle_axes(const std::vector<Triangle>& triangles, const std::ve
                            std::vector<TriangleAxes>& axes, PredicateCounters& counters) {
   axes.resize(triangles.size());
   tbb::combinable<PredicateCounters> local_counters;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 4096), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 1024), [&](const auto& range) {
     PredicateCounters& local = local_counters.local();
     for (std::size_t f = range.begin(); f != range.end(); ++f) {
       const Triangle& t = triangles[f];

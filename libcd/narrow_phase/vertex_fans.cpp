@@ -126,7 +126,7 @@ VertexFans::VertexFans(const std::vector<Triangle>& triangles, std::size_t verte
 
 void VertexFans::find_apart(const std::vector<Vec3>& x, std::vector<unsigned char>& apart) const {
   apart.resize(vertex_count_);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertex_count_, 2048), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertex_count_, 512), [&](const auto& range) {
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
       const std::size_t begin = first_[v], end = first_[v + 1];
       if (begin == end) {
