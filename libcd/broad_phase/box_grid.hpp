@@ -101,7 +101,9 @@ class BoxGridBroadPhase : public BroadPhase {
   double inverse_cell_size_ = 1;
   std::int64_t dims_[3] = {1, 1, 1};
   std::vector<std::uint64_t> cell_first_;  ///< #cells + 1, start of each cell's registrations
-  std::vector<std::uint64_t> next_in_cell_;  ///< #cells, the counting sort's cursors
+  /// Per range of triangles registered by one thread, #cells: its counts,
+  /// then its cursors in the counting sort.
+  std::vector<std::vector<std::uint64_t>> range_cursors_;
   std::vector<std::uint32_t> cell_lo_[3], cell_hi_[3];  ///< #F cell range of each box, per axis
   std::vector<std::uint64_t> first_registration_;       ///< #F + 1, prefix sum of range volumes
   /// A triangle's box rounded outwards to floats (half the bytes to stream;

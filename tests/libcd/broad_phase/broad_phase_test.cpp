@@ -497,6 +497,49 @@ TEST(BoxGrid, LeavingOutApartVerticesGivesBruteForceSetsWithoutTheirPairs) {
   }
 }
 
+// Over 32,768 triangles two threads register them in two ranges, each with
+// its own cursors: the same pairs, tests and cell use as one thread (whose
+// sets equal brute force's above), and leaving out apart vertices too.
+TEST(BoxGrid, RegistrationInRangesGivesTheOneThreadArrays) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  Soup soup;
+  std::vector<Triangle> tris;
+  const Index side = 140;  // 38,642 triangles
+  for (Index j = 0; j < side; ++j)
+    for (Index i = 0; i < side; ++i)
+      soup.x_t0.push_back({double(i) + 0.3 * u(rng), double(j) + 0.3 * u(rng), 3.0 * u(rng)});
+  for (Index j = 0; j + 1 < side; ++j) {
+    for (Index i = 0; i + 1 < side; ++i) {
+      const Index v = j * side + i;
+      tris.push_back({v, v + 1, v + side});
+      tris.push_back({v + 1, v + side + 1, v + side});
+    }
+  }
+  soup.x_t1 = soup.x_t0;
+  soup.scene = Scene({make_object("large sheet", static_cast<Index>(soup.x_t0.size()), tris)});
+  std::vector<unsigned char> apart(soup.x_t0.size());
+  for (unsigned char& flag : apart) flag = u(rng) < 0.5;
+  BroadPhaseSettings one, two;
+  one.threads = 1;
+  two.threads = 2;
+  BoxGridBroadPhase a, b;
+  a.build(soup.scene, one);
+  b.build(soup.scene, two);
+  std::vector<TrianglePair> pa, pb;
+  a.detect_static(soup.x_t0, pa);
+  b.detect_static(soup.x_t0, pb);
+  EXPECT_TRUE(pa == pb) << pa.size() << " pairs on one thread, " << pb.size() << " on two";
+  EXPECT_EQ(a.stats().tests, b.stats().tests);
+  EXPECT_EQ(a.stats().cells_used, b.stats().cells_used);
+  EXPECT_EQ(a.stats().registrations, b.stats().registrations);
+  EXPECT_GT(pa.size(), tris.size());
+  a.detect_static_leaving_out(soup.x_t0, apart, pa);
+  b.detect_static_leaving_out(soup.x_t0, apart, pb);
+  EXPECT_TRUE(pa == pb);
+  EXPECT_EQ(a.stats().left_out_apart, b.stats().left_out_apart);
+}
+
 TEST(BoxGrid, RejectsPositionsOfTheWrongSize) {
   const Soup soup = random_soup(1, 10, false);
   BoxGridBroadPhase grid;
