@@ -200,7 +200,8 @@ void print_tables(const json& report) {
                 s["cgal_pairs"].get<std::size_t>(), s["cgal_degenerate_faces"].get<std::size_t>(), verdict.c_str());
   }
 
-  std::printf("\nsnag static detection by stage (last pass, all frames, seconds; tests_s includes the vertex fans); "
+  std::printf("\nsnag static detection by stage (last pass, all frames, seconds; grid includes the vertex fans and "
+              "triangle axes, found alongside the registration); "
               "how the pairs ended (every frame): fans = sharing an apart vertex, left out by the broad phase, "
               "plane = no shared vertex and b on one side of a's plane, filter = 2D exact-sign rejection, "
               "test = the exact-sign test; exact%%: predicates that needed their exact stage\n");

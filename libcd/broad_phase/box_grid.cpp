@@ -1,6 +1,7 @@
 #include "libcd/broad_phase/box_grid.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -66,6 +67,11 @@ void BoxGridBroadPhase::build(const Scene& scene, const BroadPhaseSettings& sett
   settings_ = settings;
   arena_ = std::make_unique<tbb::task_arena>(arena_threads(settings.threads));
   arena_->execute([&] { reps_ = assign_representative_triangles(scene); });
+}
+
+void BoxGridBroadPhase::build_grid() {
+  choose_grid();
+  register_boxes();
 }
 
 void BoxGridBroadPhase::choose_grid() {
@@ -246,12 +252,7 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const u
   const std::size_t n = dops.size();
   stats_.root_triangles = n;
 
-  auto t = Clock::now();
-  choose_grid();
-  register_boxes();
-  stats_.seconds_registration = seconds_since(t);
-
-  t = Clock::now();
+  const auto t = Clock::now();
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   block_pairs_.resize(blocks);
   block_candidates_.resize(blocks);
@@ -440,6 +441,9 @@ void BoxGridBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vec
     bounds_ = compute_primitive_bounds(*scene_, x_t0, x_t1, settings_.thickness);
     dops_ = &bounds_.triangles;
     stats_.seconds_bounds = seconds_since(start);
+    const auto registration_start = Clock::now();
+    build_grid();
+    stats_.seconds_registration = seconds_since(registration_start);
     triangle_pairs(pairs_);
     feature_stage(*scene_, reps_, bounds_, pairs_, vf, ee, stats_);
     stats_.memory_bytes += (bounds_.edges.size() + bounds_.vertices.size()) * sizeof(Dop18);
@@ -448,17 +452,18 @@ void BoxGridBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vec
 }
 
 void BoxGridBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) {
-  static_pairs(x, nullptr, pairs);
+  static_pairs(x, nullptr, {}, pairs);
 }
 
 void BoxGridBroadPhase::detect_static_leaving_out(const std::vector<Vec3>& x, const std::vector<unsigned char>& apart,
-                                                  std::vector<TrianglePair>& pairs) {
-  if (apart.size() != x.size()) throw UsageError("broad phase: apart flags must have one per vertex");
-  static_pairs(x, apart.data(), pairs);
+                                                  std::vector<TrianglePair>& pairs,
+                                                  const std::function<void()>& find_apart) {
+  // The flags are checked after find_apart has filled them.
+  static_pairs(x, &apart, find_apart, pairs);
 }
 
-void BoxGridBroadPhase::static_pairs(const std::vector<Vec3>& x, const unsigned char* apart,
-                                     std::vector<TrianglePair>& pairs) {
+void BoxGridBroadPhase::static_pairs(const std::vector<Vec3>& x, const std::vector<unsigned char>* apart,
+                                     const std::function<void()>& find_apart, std::vector<TrianglePair>& pairs) {
   check_positions(scene_, x, "x");
   run_with_threads(*arena_, [&] {
     stats_ = BroadPhaseStats{};
@@ -476,7 +481,15 @@ void BoxGridBroadPhase::static_pairs(const std::vector<Vec3>& x, const unsigned 
     });
     dops_ = &static_dops_;
     stats_.seconds_bounds = seconds_since(start);
-    triangle_pairs(pairs, apart);
+    const auto registration_start = Clock::now();
+    if (find_apart) {
+      tbb::parallel_invoke([&] { build_grid(); }, [&] { find_apart(); });
+    } else {
+      build_grid();
+    }
+    stats_.seconds_registration = seconds_since(registration_start);
+    if (apart && apart->size() != x.size()) throw UsageError("broad phase: apart flags must have one per vertex");
+    triangle_pairs(pairs, apart ? apart->data() : nullptr);
     stats_.candidates = pairs.size();
     stats_.seconds_total = seconds_since(start);
   });

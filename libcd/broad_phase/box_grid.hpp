@@ -63,17 +63,24 @@ class BoxGridBroadPhase : public BroadPhase {
                   std::vector<EdgeEdgeCandidate>& ee) override;
   void detect_static(const std::vector<Vec3>& x, std::vector<TrianglePair>& pairs) override;
   /// detect_static without the pairs that share an apart vertex: they are
-  /// dropped after the box test, before their DOPs are read.
+  /// dropped after the box test, before their DOPs are read. find_apart
+  /// runs alongside the grid's registration (on another thread when there is one).
   void detect_static_leaving_out(const std::vector<Vec3>& x, const std::vector<unsigned char>& apart,
-                                 std::vector<TrianglePair>& pairs) override;
+                                 std::vector<TrianglePair>& pairs, const std::function<void()>& find_apart) override;
+  using BroadPhase::detect_static_leaving_out;
   const BroadPhaseStats& stats() const override { return stats_; }
 
  private:
   /// Triangle pairs whose DOPs (dops_, #F) overlap, sorted, into `pairs`;
-  /// with `apart` (#V flags), none that shares a flagged vertex.
+  /// with `apart` (#V flags), none that shares a flagged vertex. The grid
+  /// must have been built (build_grid).
   void triangle_pairs(std::vector<TrianglePair>& pairs, const unsigned char* apart = nullptr);
-  /// detect_static's work, `apart` as in triangle_pairs.
-  void static_pairs(const std::vector<Vec3>& x, const unsigned char* apart, std::vector<TrianglePair>& pairs);
+  /// The grid of the boxes of dops_: choose_grid, then register_boxes.
+  void build_grid();
+  /// detect_static's work, `apart` as in triangle_pairs, filled by
+  /// `find_apart` (if any) alongside the registration.
+  void static_pairs(const std::vector<Vec3>& x, const std::vector<unsigned char>* apart,
+                    const std::function<void()>& find_apart, std::vector<TrianglePair>& pairs);
   /// Chooses the cell size and dimensions for the boxes of dops_.
   void choose_grid();
   /// Registers every triangle in the cells of its box (a stable counting

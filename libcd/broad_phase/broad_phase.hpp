@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -100,10 +101,20 @@ class BroadPhase {
   /// apart[v] != 0 (#V flags) may be left out: the caller has shown that
   /// such pairs do not intersect (narrow_phase/vertex_fans.hpp). This
   /// default leaves none out; the box grid leaves out all of them.
+  /// `find_apart` (may be empty) is called once, before the flags are read,
+  /// on this broad phase's threads and possibly alongside its own work (the
+  /// box grid runs it while it registers the boxes): it must fill `apart`
+  /// and may do other work of the caller's that reads nothing this writes.
   virtual void detect_static_leaving_out(const std::vector<Vec3>& x, const std::vector<unsigned char>& apart,
-                                         std::vector<TrianglePair>& pairs) {
+                                         std::vector<TrianglePair>& pairs, const std::function<void()>& find_apart) {
     (void)apart;
+    if (find_apart) find_apart();
     detect_static(x, pairs);
+  }
+  /// detect_static_leaving_out with `apart` already filled.
+  void detect_static_leaving_out(const std::vector<Vec3>& x, const std::vector<unsigned char>& apart,
+                                 std::vector<TrianglePair>& pairs) {
+    detect_static_leaving_out(x, apart, pairs, {});
   }
 
   /// Counts of the last detection.

@@ -86,12 +86,14 @@ class CpuBackend final : public Backend {
     arena_->execute([&] {
       // With the test by frame, the pairs that share a vertex whose fan is
       // apart are known not to intersect: the broad phase may leave them out.
-      double seconds_fans = 0;
+      // The fans and the triangles' axes are found while it builds its grid
+      // (their time is in the broad phase's registration stage).
+      PredicateCounters axes_counters;
       if (options_.frame_static_test) {
-        const auto fans_start = std::chrono::steady_clock::now();
-        fans_->find_apart(x, apart_);
-        seconds_fans = seconds_since(fans_start);
-        static_broad_->detect_static_leaving_out(x, apart_, pairs_);
+        static_broad_->detect_static_leaving_out(x, apart_, pairs_, [&] {
+          fans_->find_apart(x, apart_);
+          compute_triangle_axes(scene_->triangles(), x, axes_, axes_counters);
+        });
       } else {
         static_broad_->detect_static(x, pairs_);
       }
@@ -99,7 +101,7 @@ class CpuBackend final : public Backend {
       const auto start = std::chrono::steady_clock::now();
       hit_.assign(pairs_.size(), 0);
       if (options_.frame_static_test) {
-        test_pairs_by_frame(x);
+        test_pairs_by_frame(x, axes_counters);
       } else {
         test_pairs_one_by_one(x);
       }
@@ -112,19 +114,18 @@ class CpuBackend final : public Backend {
       append_intersection_events(*scene_, x, intersecting_, events);
       stats_.narrow.seconds_static_events = seconds_since(events_start);
       stats_.narrow.triangles_intersecting += intersecting_.size();
-      stats_.narrow.seconds_static = seconds_fans + seconds_since(start);
+      stats_.narrow.seconds_static = seconds_since(start);
     });
   }
 
   const PipelineStats& stats() const override { return stats_; }
 
  private:
-  // The static test by frame (CpuBackendOptions::frame_static_test): axes
-  // once per triangle, then each pair on all cores, answers kept by index.
-  void test_pairs_by_frame(const std::vector<Vec3>& x) {
+  // The static test by frame (CpuBackendOptions::frame_static_test): each
+  // pair on all cores, with the triangles' axes (axes_, found with the fans
+  // and counted in `axes_counters`), answers kept by index.
+  void test_pairs_by_frame(const std::vector<Vec3>& x, const PredicateCounters& axes_counters) {
     const auto& triangles = scene_->triangles();
-    PredicateCounters axes_counters;
-    compute_triangle_axes(triangles, x, axes_, axes_counters);
     tbb::combinable<StaticTestCounters> counters;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs_.size(), 256), [&](const auto& range) {
       test_pair_range(triangles, x, axes_, pairs_, range.begin(), range.end(), hit_, counters.local());

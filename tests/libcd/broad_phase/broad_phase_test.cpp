@@ -387,6 +387,24 @@ TEST(BoxGrid, SpatialQueryOrderGivesBruteForceSetsForEveryThreadCount) {
   expect_same_for_one_and_two_threads(soup, a, b);
 }
 
+// A side × side grid of vertices 1 apart, each moved by jitter·u along x and
+// y and bump·u along z (u uniform in [-0.5, 0.5)), two triangles per quad,
+// appended to x and tris.
+void add_sheet(std::mt19937& rng, Index side, double jitter, double bump, std::vector<Vec3>& x,
+               std::vector<Triangle>& tris) {
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  const Index base = static_cast<Index>(x.size());
+  for (Index j = 0; j < side; ++j)
+    for (Index i = 0; i < side; ++i) x.push_back({double(i) + jitter * u(rng), double(j) + jitter * u(rng), bump * u(rng)});
+  for (Index j = 0; j + 1 < side; ++j) {
+    for (Index i = 0; i + 1 < side; ++i) {
+      const Index v = base + j * side + i;
+      tris.push_back({v, v + 1, v + side});
+      tris.push_back({v + 1, v + side + 1, v + side});
+    }
+  }
+}
+
 // Triangles that share vertices skip the DOP test (their DOPs always
 // overlap): a crumpled sheet, a fan of 300 triangles around one vertex, a
 // duplicated face and a triangle with a repeated vertex id still give brute
@@ -397,17 +415,7 @@ TEST(BoxGrid, TrianglesSharingVerticesGiveBruteForceSets) {
   std::uniform_real_distribution<double> u(-0.5, 0.5);
   Soup soup;
   std::vector<Triangle> tris;
-  const Index side = 40;
-  for (Index j = 0; j < side; ++j)
-    for (Index i = 0; i < side; ++i)
-      soup.x_t0.push_back({double(i) + 0.3 * u(rng), double(j) + 0.3 * u(rng), 0.8 * u(rng)});
-  for (Index j = 0; j + 1 < side; ++j) {
-    for (Index i = 0; i + 1 < side; ++i) {
-      const Index v = j * side + i;
-      tris.push_back({v, v + 1, v + side});
-      tris.push_back({v + 1, v + side + 1, v + side});
-    }
-  }
+  add_sheet(rng, 40, 0.3, 0.8, soup.x_t0, tris);
   const Index centre = static_cast<Index>(soup.x_t0.size());
   soup.x_t0.push_back({20, 20, 0});
   const Index fan = 300;
@@ -433,25 +441,17 @@ TEST(BoxGrid, TrianglesSharingVerticesGiveBruteForceSets) {
 }
 
 // detect_static_leaving_out gives brute force's set without the pairs that
-// share a flagged vertex (whatever the flags), for every thread count and in
-// the spatial query order: a crumpled sheet with a fan and odd faces, and the
-// same sheet's triangles shuffled (over 16,384 of them, out of spatial order).
+// share a flagged vertex (whatever the flags, given or filled by its
+// callback), for every thread count and in the spatial query order: a
+// crumpled sheet with a fan and odd faces, and the same sheet's triangles
+// shuffled (over 16,384 of them, out of spatial order).
 TEST(BoxGrid, LeavingOutApartVerticesGivesBruteForceSetsWithoutTheirPairs) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u(0, 1);
   auto sheet = [&](Index side) {
     Soup soup;
     std::vector<Triangle> tris;
-    for (Index j = 0; j < side; ++j)
-      for (Index i = 0; i < side; ++i)
-        soup.x_t0.push_back({double(i) + 0.3 * u(rng), double(j) + 0.3 * u(rng), 2.0 * u(rng)});
-    for (Index j = 0; j + 1 < side; ++j) {
-      for (Index i = 0; i + 1 < side; ++i) {
-        const Index v = j * side + i;
-        tris.push_back({v, v + 1, v + side});
-        tris.push_back({v + 1, v + side + 1, v + side});
-      }
-    }
+    add_sheet(rng, side, 0.3, 2.0, soup.x_t0, tris);
     tris.push_back(tris[10]);
     tris.push_back({tris[50][0], tris[50][0], tris[50][2]});
     soup.x_t1 = soup.x_t0;
@@ -488,6 +488,15 @@ TEST(BoxGrid, LeavingOutApartVerticesGivesBruteForceSetsWithoutTheirPairs) {
         EXPECT_TRUE(pairs == expected) << soup->scene.objects()[0].name << ", share " << share << ", threads "
                                        << threads << ": " << pairs.size() << " pairs, expected " << expected.size();
         EXPECT_EQ(grid.stats().left_out_apart, all.size() - expected.size());
+        // The flags filled by the callback, alongside the registration.
+        std::vector<unsigned char> filled(apart.size(), 0);
+        int calls = 0;
+        grid.detect_static_leaving_out(soup->x_t0, filled, pairs, [&] {
+          ++calls;
+          filled = apart;
+        });
+        EXPECT_EQ(calls, 1);
+        EXPECT_TRUE(pairs == expected) << "flags filled alongside the registration";
         // The plain detection after it leaves nothing out.
         grid.detect_static(soup->x_t0, pairs);
         EXPECT_TRUE(pairs == all);
@@ -505,17 +514,7 @@ TEST(BoxGrid, RegistrationInRangesGivesTheOneThreadArrays) {
   std::uniform_real_distribution<double> u(0, 1);
   Soup soup;
   std::vector<Triangle> tris;
-  const Index side = 140;  // 38,642 triangles
-  for (Index j = 0; j < side; ++j)
-    for (Index i = 0; i < side; ++i)
-      soup.x_t0.push_back({double(i) + 0.3 * u(rng), double(j) + 0.3 * u(rng), 3.0 * u(rng)});
-  for (Index j = 0; j + 1 < side; ++j) {
-    for (Index i = 0; i + 1 < side; ++i) {
-      const Index v = j * side + i;
-      tris.push_back({v, v + 1, v + side});
-      tris.push_back({v + 1, v + side + 1, v + side});
-    }
-  }
+  add_sheet(rng, 140, 0.3, 3.0, soup.x_t0, tris);  // 38,642 triangles
   soup.x_t1 = soup.x_t0;
   soup.scene = Scene({make_object("large sheet", static_cast<Index>(soup.x_t0.size()), tris)});
   std::vector<unsigned char> apart(soup.x_t0.size());
