@@ -50,11 +50,25 @@ constexpr int kMaxTimeLevel = 31;
 /// Intervals examined before the time search gives up.
 constexpr int kMaxTimeIntervals = 256;
 
-/// Enclosures of the Bernstein coefficients of 3 g on one time interval.
+/// Enclosures of the Bernstein coefficients of 3 g on one time interval;
+/// `inside`: every inside condition is known to hold strictly over it (see
+/// time_search).
 struct TimeInterval {
   uint32_t num;
   uint8_t level;
+  bool inside;
   Interval b[4];
+};
+
+/// A later half the depth-first search has yet to visit, without its last
+/// coefficient: the pending halves tile the rest of [0, 1] in order, so that
+/// coefficient (g at the half's upper end) is the first one of the pending
+/// half below it, or the whole step's last one for the lowest.
+struct PendingTimeInterval {
+  uint32_t num;
+  uint8_t level;
+  bool inside;
+  Interval b[3];
 };
 
 /// Encloses the exact coefficient a computed term approximates, times `scale`.
@@ -81,19 +95,30 @@ SNAG_HD_INLINE bool keeps_sign(const Interval b[4]) {
 /// condition holds strictly over [ta, tb]; -1: one is strictly violated;
 /// 0: undecided) and `certify_crossing(ta, tb)`. Returns false when it gives
 /// up; else *result is kNo or kYes with the enclosure of the earliest contact.
+///
+/// The halves of an interval over which inside_over gave +1 are not asked
+/// again: they inherit +1, which is what inside_over would give them, since
+/// it must be inclusion-monotone: evaluated over [ta', tb'] inside [ta, tb]
+/// it encloses no more than over [ta, tb]. The kernels' inside_over are
+/// outward-rounded interval expressions in the time interval (interval.hpp),
+/// and each of their operations is monotone in its operands' bounds
+/// (round-to-nearest and next_up/next_down are non-decreasing, and a product's
+/// bounds are the least and greatest of its endpoint products), so their lower
+/// bounds only grow on a sub-interval.
 template <class Contact>
 SNAG_HD bool time_search(const Contact& contact, const CoplanarityCubic& cubic, double time_tolerance,
                          CcdResult* result) {
-  TimeInterval stack[kMaxTimeLevel + 1];
+  PendingTimeInterval stack[kMaxTimeLevel + 1];
   int pending = 0;
-  TimeInterval node{0, 0, {enclose(cubic.term[0], 3), enclose(cubic.term[1], 1), enclose(cubic.term[2], 1),
-                           enclose(cubic.term[3], 3)}};
+  const Interval last = enclose(cubic.term[3], 3);
+  TimeInterval node{
+      0, 0, false, {enclose(cubic.term[0], 3), enclose(cubic.term[1], 1), enclose(cubic.term[2], 1), last}};
   for (int examined = 1;; ++examined) {
     if (examined > kMaxTimeIntervals) return false;
     bool excluded = keeps_sign(node.b);
     if (!excluded) {
       const double ta = lower(node.num, node.level), tb = upper(node.num, node.level);
-      const int inside = contact.inside_over(ta, tb);
+      const int inside = node.inside ? 1 : contact.inside_over(ta, tb);
       excluded = inside < 0;
       if (!excluded) {
         const double width = tb - ta;
@@ -118,8 +143,8 @@ SNAG_HD bool time_search(const Contact& contact, const CoplanarityCubic& cubic, 
         const Interval m012 = midpoint(m01, m12), m123 = midpoint(m12, m23);
         const Interval middle = midpoint(m012, m123);
         const uint8_t level = static_cast<uint8_t>(node.level + 1);
-        stack[pending++] = TimeInterval{2 * node.num + 1, level, {middle, m123, m23, b[3]}};
-        node = TimeInterval{2 * node.num, level, {b[0], m01, m012, middle}};
+        stack[pending++] = PendingTimeInterval{2 * node.num + 1, level, inside > 0, {middle, m123, m23}};
+        node = TimeInterval{2 * node.num, level, inside > 0, {b[0], m01, m012, middle}};
         continue;
       }
     }
@@ -127,7 +152,9 @@ SNAG_HD bool time_search(const Contact& contact, const CoplanarityCubic& cubic, 
       *result = make_result(CcdAnswer::kNo, 1, 1);
       return true;
     }
-    node = stack[--pending];
+    const PendingTimeInterval& next = stack[--pending];
+    node = TimeInterval{next.num, next.level, next.inside,
+                        {next.b[0], next.b[1], next.b[2], pending > 0 ? stack[pending - 1].b[0] : last}};
   }
 }
 

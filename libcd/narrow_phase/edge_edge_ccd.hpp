@@ -160,22 +160,31 @@ SNAG_HD_INLINE bool edge_edge_structure(const ccd_detail::EdgeEdgeContact& conta
   return false;
 }
 
-/// The early exits, the decisions by structure and, at thickness 0, the time
-/// search: true with *result set (the answer edge_edge_ccd gives) when they
-/// decide the query, false when only the (t, u, v) search can. Never throws.
-SNAG_HD_INLINE bool edge_edge_quick_ccd(const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0,
-                                        const Vec3& eb1_t0, const Vec3& ea0_t1, const Vec3& ea1_t1,
-                                        const Vec3& eb0_t1, const Vec3& eb1_t1, const CcdSettings& settings,
-                                        CcdResult* result) {
-  if (edge_edge_early_exit(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings, result)) {
-    return true;
-  }
+/// The decisions by structure and, at thickness 0, the time search, for a
+/// query the early exits left undecided (edge_edge_early_exit returned
+/// false): true with *result set (the answer edge_edge_ccd gives) when they
+/// decide it, false when only the (t, u, v) search can. Never throws.
+SNAG_HD_INLINE bool edge_edge_quick_search(const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0,
+                                           const Vec3& eb1_t0, const Vec3& ea0_t1, const Vec3& ea1_t1,
+                                           const Vec3& eb0_t1, const Vec3& eb1_t1, const CcdSettings& settings,
+                                           CcdResult* result) {
   const ccd_detail::EdgeEdgeContact contact{{ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1}};
   if (edge_edge_structure(contact, settings, result)) return true;
   if (settings.thickness != 0) return false;
   const Vec3 p[2] = {eb0_t0 - ea0_t0, eb0_t1 - ea0_t1}, b[2] = {ea1_t0 - ea0_t0, ea1_t1 - ea0_t1},
              c[2] = {eb1_t0 - eb0_t0, eb1_t1 - eb0_t1};
   return ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, result);
+}
+
+/// The early exits, then edge_edge_quick_search: true with *result set (the
+/// answer edge_edge_ccd gives) when they decide the query, false when only
+/// the (t, u, v) search can. Never throws.
+SNAG_HD_INLINE bool edge_edge_quick_ccd(const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0,
+                                        const Vec3& eb1_t0, const Vec3& ea0_t1, const Vec3& ea1_t1,
+                                        const Vec3& eb0_t1, const Vec3& eb1_t1, const CcdSettings& settings,
+                                        CcdResult* result) {
+  return edge_edge_early_exit(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings, result) ||
+         edge_edge_quick_search(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings, result);
 }
 
 /// Continuous collision of edge (ea0, ea1) against edge (eb0, eb1), every end

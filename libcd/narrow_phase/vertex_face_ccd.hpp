@@ -161,18 +161,28 @@ SNAG_HD_INLINE bool vertex_face_structure(const ccd_detail::VertexFaceContact& c
   return false;
 }
 
-/// The early exits, the decisions by structure and, at thickness 0, the time
-/// search: true with *result set (the answer vertex_face_ccd gives) when they
-/// decide the query, false when only the (t, u, v) search can. Never throws.
-SNAG_HD_INLINE bool vertex_face_quick_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
-                                          const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
-                                          const CcdSettings& settings, CcdResult* result) {
-  if (vertex_face_early_exit(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, result)) return true;
+/// The decisions by structure and, at thickness 0, the time search, for a
+/// query the early exits left undecided (vertex_face_early_exit returned
+/// false): true with *result set (the answer vertex_face_ccd gives) when they
+/// decide it, false when only the (t, u, v) search can. Never throws.
+SNAG_HD_INLINE bool vertex_face_quick_search(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                                             const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1,
+                                             const Vec3& c_t1, const CcdSettings& settings, CcdResult* result) {
   const ccd_detail::VertexFaceContact contact{{p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1}};
   if (vertex_face_structure(contact, settings, result)) return true;
   if (settings.thickness != 0) return false;
   const Vec3 p[2] = {p_t0 - a_t0, p_t1 - a_t1}, b[2] = {b_t0 - a_t0, b_t1 - a_t1}, c[2] = {c_t0 - a_t0, c_t1 - a_t1};
   return ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, result);
+}
+
+/// The early exits, then vertex_face_quick_search: true with *result set (the
+/// answer vertex_face_ccd gives) when they decide the query, false when only
+/// the (t, u, v) search can. Never throws.
+SNAG_HD_INLINE bool vertex_face_quick_ccd(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                                          const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                                          const CcdSettings& settings, CcdResult* result) {
+  return vertex_face_early_exit(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, result) ||
+         vertex_face_quick_search(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, result);
 }
 
 /// Continuous collision of vertex p against triangle (a, b, c), every point

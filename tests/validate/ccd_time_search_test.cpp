@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
@@ -101,6 +102,40 @@ void check_random_queries(bool is_edge_edge) {
 
 TEST(CcdTimeSearch, AgreesWithExactCcdOnRandomVertexFaceQueries) { check_random_queries(false); }
 TEST(CcdTimeSearch, AgreesWithExactCcdOnRandomEdgeEdgeQueries) { check_random_queries(true); }
+
+// The time search lets the halves of an interval over which inside_over gave
+// +1 inherit it without asking again; that is the answer inside_over gives
+// them only if it is inclusion-monotone. Checked over every interval of the
+// search tree down to level 11 of random queries: where an interval gives
+// +1, both its halves give +1.
+int inside(const Points& x, bool is_edge_edge, double ta, double tb) {
+  if (is_edge_edge) {
+    return ccd_detail::EdgeEdgeContact{{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]}}.inside_over(ta, tb);
+  }
+  return ccd_detail::VertexFaceContact{{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]}}.inside_over(ta, tb);
+}
+
+void check_inside_inherited(bool is_edge_edge) {
+  std::mt19937_64 rng(is_edge_edge ? 32 : 31);
+  int inherited = 0;
+  for (int i = 0; i < 100; ++i) {
+    const Points x = random_near_contact(rng, is_edge_edge);
+    for (int level = 0; level < 11; ++level) {
+      for (std::uint32_t num = 0; num < (1u << level); ++num) {
+        if (inside(x, is_edge_edge, ccd_detail::lower(num, level), ccd_detail::upper(num, level)) <= 0) continue;
+        for (std::uint32_t half = 2 * num; half <= 2 * num + 1; ++half) {
+          ++inherited;
+          ASSERT_EQ(inside(x, is_edge_edge, ccd_detail::lower(half, level + 1), ccd_detail::upper(half, level + 1)), 1)
+              << "query " << i << ", interval " << num << " of level " << level;
+        }
+      }
+    }
+  }
+  EXPECT_GT(inherited, 10000);
+}
+
+TEST(CcdTimeSearch, InsideOverHoldsOnBothHalvesWhereItHoldsOnVertexFaceQueries) { check_inside_inherited(false); }
+TEST(CcdTimeSearch, InsideOverHoldsOnBothHalvesWhereItHoldsOnEdgeEdgeQueries) { check_inside_inherited(true); }
 
 // A triangle turning about its edge a-b (the x axis), its plane z = (1 - 2t) y,
 // while a vertex moves along y at z = -0.08: it meets the plane at t = 0.3
