@@ -52,10 +52,11 @@ struct VertexFaceQuery {
     points(i, x);
     return vertex_face_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
+  // For a query whose early exits decided nothing.
   __device__ bool quick(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
     Vec3 x[8];
     points(i, x);
-    return vertex_face_quick_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
+    return vertex_face_quick_search(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
   __device__ CcdResult full(std::uint32_t i, const CcdSettings& settings) const {
     Vec3 x[8];
@@ -86,10 +87,11 @@ struct EdgeEdgeQuery {
     points(i, x);
     return edge_edge_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
+  // For a query whose early exits decided nothing.
   __device__ bool quick(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
     Vec3 x[8];
     points(i, x);
-    return edge_edge_quick_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
+    return edge_edge_quick_search(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
   __device__ CcdResult full(std::uint32_t i, const CcdSettings& settings) const {
     Vec3 x[8];
@@ -113,10 +115,11 @@ __global__ void __launch_bounds__(kBlockSize, 4)
 }
 
 // The screen, step 2: thread k takes candidate subset[k] and, when step 1
-// left it undecided, runs the quick part (the time search) on it, updating
+// left it undecided, runs the rest of the quick part on it (the decisions by
+// structure and the time search; its early exits decided nothing), updating
 // its result and flag in place.
 template <class Query>
-__global__ void __launch_bounds__(kBlockSize, 4)
+__global__ void __launch_bounds__(kBlockSize, 3)
     ccd_quick_kernel(Query query, const std::uint32_t* __restrict__ subset, std::size_t count, CcdSettings settings,
                      CcdResult* __restrict__ results, unsigned char* __restrict__ flags) {
   const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;

@@ -8,8 +8,9 @@
 //  1. screen: every candidate runs the early exits of the CCD function
 //     (vertex_face_early_exit, edge_edge_early_exit), which rule out most
 //     candidates of a real scene; the survivors are compacted and run the
-//     rest of its quick part (vertex_face_quick_ccd, edge_edge_quick_ccd: at
-//     thickness 0 the search over time), side by side in full warps. These
+//     rest of its quick part (vertex_face_quick_search,
+//     edge_edge_quick_search: at thickness 0 the search over time), side by
+//     side in full warps. These
 //     kernels hold no box heap: at most 128 registers and a 3 kB stack frame;
 //  2. search: the candidates the screen found to be hits and those it left
 //     undecided are compacted; the undecided ones run the whole function
@@ -21,9 +22,13 @@
 //
 // Resources (ptxas -v, sm_90, CUDA 13.0, --fmad=false): the whole-function
 // kernels use 255 registers and a 17 kB stack frame (the 16 kB box heap of
-// ccd_inclusion.hpp and about 1 kB of spills); the screen kernels are held to
+// ccd_inclusion.hpp and about 1 kB of spills); the early exits are held to
 // 128 registers (__launch_bounds__, 4 blocks of 128 per multiprocessor) with
-// about 1 kB of spills; the static kernel 222 registers and a 2.3 kB frame
+// no spills, the rest of the quick part to 168 (3 blocks) with a 4 kB frame
+// (the time search's stack, the exact predicates' expansions) and at most
+// 0.3 kB of spills (with 4 blocks, 128 registers, its cloth-ball step took
+// 1.79 + 3.77 ms, VF + EE, on an H100, against 1.29 + 3.64 ms with 3); the
+// static kernel 222 registers and a 2.3 kB frame
 // (the exact stages' expansions). The driver reserves local memory for the
 // frame on every resident thread of the device, outside
 // DeviceMemoryTracker's count.
