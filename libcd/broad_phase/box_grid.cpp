@@ -51,6 +51,10 @@ void run_with_threads(tbb::task_arena& arena, Work&& work) {
 
 /// Triangles per thread below which the registration stays on one thread.
 constexpr std::size_t kRegistrationRange = 16384;
+/// At most this many registration ranges: each holds a cursor per cell (8
+/// bytes, up to 4 cells per triangle), so that a many-core machine does not
+/// spend 32 bytes per triangle and thread on them.
+constexpr std::size_t kMaxRegistrationRanges = 8;
 
 /// How many queries ahead the spatial query order prefetches a query's arrays.
 constexpr std::size_t kPrefetchQueries = 4;
@@ -169,7 +173,8 @@ void BoxGridBroadPhase::register_boxes() {
   // with cursors that start where the ranges before it end in each cell:
   // the same arrays for any number of ranges.
   const std::size_t ranges = std::max<std::size_t>(
-      1, std::min<std::size_t>(std::size_t(tbb::this_task_arena::max_concurrency()), n / kRegistrationRange));
+      1, std::min<std::size_t>({std::size_t(tbb::this_task_arena::max_concurrency()), n / kRegistrationRange,
+                                kMaxRegistrationRanges}));
   range_cursors_.resize(ranges);
   auto range_begin = [&](std::size_t r) { return n * r / ranges; };
   tbb::parallel_for(std::size_t(0), ranges, [&](std::size_t r) {
