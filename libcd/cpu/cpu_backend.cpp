@@ -60,7 +60,7 @@ class CpuBackend final : public Backend {
     BroadPhaseSettings static_settings = broad;
     static_settings.thickness = 0;
     static_broad_->build(scene, static_settings);
-    fans_ = std::make_unique<VertexFans>(scene.triangles(), scene.vertex_count());
+    fans_.reset();  // chained on the first intersections() that uses them
     arena_ = std::make_unique<tbb::task_arena>(settings.threads == 0 ? tbb::task_arena::automatic
                                                                      : static_cast<int>(settings.threads));
   }
@@ -90,6 +90,7 @@ class CpuBackend final : public Backend {
       // (their time is in the broad phase's registration stage).
       PredicateCounters axes_counters;
       if (options_.frame_static_test) {
+        if (!fans_) fans_ = std::make_unique<VertexFans>(scene_->triangles(), scene_->vertex_count());
         static_broad_->detect_static_leaving_out(x, apart_, pairs_, [&] {
           fans_->find_apart(x, apart_);
           compute_triangle_axes(scene_->triangles(), x, axes_, axes_counters);
@@ -194,7 +195,7 @@ class CpuBackend final : public Backend {
   std::vector<TrianglePair> pairs_, intersecting_;
   std::vector<TriangleAxes> axes_;
   std::vector<unsigned char> hit_;
-  std::unique_ptr<VertexFans> fans_;   ///< the scene's vertex fans, chained in bind()
+  std::unique_ptr<VertexFans> fans_;   ///< the scene's vertex fans, for the test by frame
   std::vector<unsigned char> apart_;   ///< #V: this frame's apart vertices
   PipelineStats stats_;
 };
