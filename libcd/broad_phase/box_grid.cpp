@@ -8,6 +8,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <string>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "libcd/broad_phase/broad_phase_support.hpp"
 #include "libcd/broad_phase/feature_stage.hpp"
@@ -19,15 +25,9 @@ namespace {
 
 using namespace broad_phase_support;
 
-/// The largest float not above x, and the smallest not below it.
-float float_at_most(double x) {
-  const float f = static_cast<float>(x);
-  return static_cast<double>(f) > x ? std::nextafter(f, -HUGE_VALF) : f;
-}
-float float_at_least(double x) {
-  const float f = static_cast<float>(x);
-  return static_cast<double>(f) < x ? std::nextafter(f, HUGE_VALF) : f;
-}
+/// Triangles per block of the scene-bounds pass: fixed, so that the sum of
+/// box extents (and so the grid) does not depend on the thread count.
+constexpr std::size_t kBoundsBlock = 4096;
 
 /// Triangles per output block: fixed, so that the blocks (and the output
 /// order) do not depend on the thread count.
@@ -81,31 +81,55 @@ void BoxGridBroadPhase::build_grid() {
 void BoxGridBroadPhase::choose_grid() {
   const std::vector<Dop18>& dops = *dops_;
   const std::size_t n = dops.size();
-  boxes_.resize(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
-    for (std::size_t t = range.begin(); t != range.end(); ++t) {
+  if (n > kTriangleMask)
+    throw UsageError("box grid: at most " + std::to_string(kTriangleMask) + " triangles per detection, this one has " +
+                     std::to_string(n));
+  // The scene's bounds and the sum of the boxes' largest extents, per fixed
+  // block in parallel, then added up in block order.
+  struct Partial {
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, extent_sum = 0;
+  };
+  std::vector<Partial> partials((n + kBoundsBlock - 1) / kBoundsBlock);
+  tbb::parallel_for(std::size_t(0), partials.size(), [&](std::size_t block) {
+    Partial& part = partials[block];
+    for (std::size_t t = block * kBoundsBlock; t < std::min(n, (block + 1) * kBoundsBlock); ++t) {
+      double extent = 0;
       for (int a = 0; a < 3; ++a) {
-        boxes_[t].lo[a] = float_at_most(dops[t].lo[a]);
-        boxes_[t].hi[a] = float_at_least(dops[t].hi[a]);
+        part.lo[a] = std::min(part.lo[a], dops[t].lo[a]);
+        part.hi[a] = std::max(part.hi[a], dops[t].hi[a]);
+        extent = std::max(extent, dops[t].hi[a] - dops[t].lo[a]);
       }
+      part.extent_sum += extent;
     }
   });
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, extent_sum = 0;
-  for (const Dop18& d : dops) {
-    double extent = 0;
+  Partial scene;
+  for (const Partial& part : partials) {
     for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], d.lo[a]);
-      hi[a] = std::max(hi[a], d.hi[a]);
-      extent = std::max(extent, d.hi[a] - d.lo[a]);
+      scene.lo[a] = std::min(scene.lo[a], part.lo[a]);
+      scene.hi[a] = std::max(scene.hi[a], part.hi[a]);
     }
-    extent_sum += extent;
+    scene.extent_sum += part.extent_sum;
   }
+  const double* lo = scene.lo;
+  const double* hi = scene.hi;
+  // The quantisation of the boxes: kQuantumMax steps over the scene along
+  // each axis.
+  double quantum_scale[3];
+  for (int a = 0; a < 3; ++a)
+    quantum_scale[a] = hi[a] > lo[a] && std::isfinite(hi[a] - lo[a]) ? double(kQuantumMax) / (hi[a] - lo[a]) : 0.0;
   double span = 0;
   for (int a = 0; a < 3; ++a) span = std::max(span, hi[a] - lo[a]);
-  double size = n ? 1.0 * extent_sum / double(n) : 1.0;
+  double size = n ? scene.extent_sum / double(n) : 1.0;
   if (!(size > 0) || !std::isfinite(size)) size = span > 0 ? span : 1.0;
   const double max_cells = 4.0 * double(n) + 64.0;
   const double max_registrations = 16.0 * double(n) + 64.0;
+  boxes_.resize(n);
+  for (int a = 0; a < 3; ++a) {
+    cell_lo_[a].resize(n);
+    cell_hi_[a].resize(n);
+  }
+  first_registration_.resize(n + 1);
+  bool quantised = false;  // boxes_ (once, on the first grid that is tried)
   for (;;) {
     double cells = 1;
     for (int a = 0; a < 3; ++a) cells *= std::max(1.0, std::ceil((hi[a] - lo[a]) / size));
@@ -118,33 +142,40 @@ void BoxGridBroadPhase::choose_grid() {
       dims_[a] = static_cast<std::int64_t>(std::max(1.0, std::ceil((hi[a] - lo[a]) / size)));
     }
     inverse_cell_size_ = 1.0 / size;
-    // Cell ranges of every box. cell() is monotone in the coordinate, which
-    // is all that the set returned relies on.
-    for (int a = 0; a < 3; ++a) {
-      cell_lo_[a].resize(n);
-      cell_hi_[a].resize(n);
-    }
-    first_registration_.resize(n + 1);
+    // Each box's cell range and number of cells, and (once) its quantised
+    // box. cell() and quantise() are monotone in the coordinate, which is
+    // all that the set returned relies on.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
       for (std::size_t t = range.begin(); t != range.end(); ++t) {
+        std::uint64_t volume = 1;
         for (int a = 0; a < 3; ++a) {
-          const double scale = inverse_cell_size_;
           const std::int64_t last = dims_[a] - 1;
           auto cell = [&](double v) {
-            const double c = std::floor((v - origin_[a]) * scale);
+            const double c = std::floor((v - origin_[a]) * inverse_cell_size_);
             return static_cast<std::uint32_t>(c <= 0 ? 0 : (c >= double(last) ? last : std::int64_t(c)));
           };
           cell_lo_[a][t] = cell(dops[t].lo[a]);
           cell_hi_[a][t] = cell(dops[t].hi[a]);
+          volume *= std::uint64_t(cell_hi_[a][t] - cell_lo_[a][t] + 1);
+        }
+        first_registration_[t + 1] = volume;
+        if (!quantised) {
+          auto quantise = [&](int a, double v) {
+            const double q = (v - lo[a]) * quantum_scale[a];  // NaN only for a NaN coordinate: then 0
+            return static_cast<std::int16_t>(q >= kQuantumMax ? kQuantumMax : (q > 0 ? q : 0));
+          };
+          Member& box = boxes_[t];
+          for (int a = 0; a < 3; ++a) {
+            box.quantised[a] = quantise(a, dops[t].lo[a]);
+            box.quantised[3 + a] = static_cast<std::int16_t>(-quantise(a, dops[t].hi[a]));
+          }
+          box.triangle_and_lowest = static_cast<std::uint32_t>(t);
         }
       }
     });
+    quantised = true;
     first_registration_[0] = 0;
-    for (std::size_t t = 0; t < n; ++t) {
-      std::uint64_t volume = 1;
-      for (int a = 0; a < 3; ++a) volume *= std::uint64_t(cell_hi_[a][t] - cell_lo_[a][t] + 1);
-      first_registration_[t + 1] = first_registration_[t] + volume;
-    }
+    for (std::size_t t = 0; t < n; ++t) first_registration_[t + 1] += first_registration_[t];
     if (double(first_registration_[n]) <= max_registrations) break;
     size *= 2;  // ends: with one cell, every triangle registers once
   }
@@ -201,12 +232,10 @@ void BoxGridBroadPhase::register_boxes() {
   tbb::parallel_for(std::size_t(0), ranges, [&](std::size_t r) {
     std::vector<std::uint64_t>& next = range_cursors_[r];
     for (std::size_t t = range_begin(r); t < range_begin(r + 1); ++t) {
-      Member member;
-      member.box = boxes_[t];
-      member.triangle = static_cast<Index>(t);
+      Member member = boxes_[t];
       std::uint32_t* place = place_in_cell_.data() + first_registration_[t];
       for_each_cell(t, [&](std::size_t c, std::uint32_t lowest_along) {
-        member.lowest_along = lowest_along;
+        member.triangle_and_lowest = static_cast<std::uint32_t>(t) | lowest_along << kLowestShift;
         const std::uint64_t slot = next[c]++;
         members_[slot] = member;
         *place++ = static_cast<std::uint32_t>(slot - cell_first_[c]);
@@ -297,9 +326,19 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const u
         __builtin_prefetch(&dops[later]);
         if (apart) __builtin_prefetch(&triangles[later]);
       }
-      const FloatBox box = boxes_[a];
-      const float lo_x = box.lo[0], lo_y = box.lo[1], lo_z = box.lo[2];
-      const float hi_x = box.hi[0], hi_y = box.hi[1], hi_z = box.hi[2];
+      // b's box overlaps a's when each of b's six quantised values is at
+      // most a's limit for it: b's low corners at most a's high ones, b's
+      // negated high corners at most a's negated low ones.
+      std::int16_t limit[kQuantisedLanes];
+      for (int k = 0; k < 3; ++k) {
+        limit[k] = static_cast<std::int16_t>(-boxes_[a].quantised[3 + k]);
+        limit[3 + k] = static_cast<std::int16_t>(-boxes_[a].quantised[k]);
+      }
+#if defined(__SSE2__)
+      // Lanes 6 and 7 hold b's id: a limit of the largest value passes them.
+      const __m128i limits = _mm_setr_epi16(limit[0], limit[1], limit[2], limit[3], limit[4], limit[5], INT16_MAX,
+                                            INT16_MAX);
+#endif
       const std::uint32_t ax = cell_lo_x[a], ay = cell_lo_y[a], az = cell_lo_z[a];
       const std::uint32_t* place = place_in_cell + first_registration[a];
       // First every cell's boxes, without branches (a branch would often
@@ -323,10 +362,17 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const u
               candidates.resize(2 * (count + static_cast<std::size_t>(m_end - m)));
             Index* kept = candidates.data();
             for (; m != m_end; ++m) {
-              const bool skip = ((m->lowest_along & need) != need) | (m->box.lo[0] > hi_x) |
-                                (m->box.hi[0] < lo_x) | (m->box.lo[1] > hi_y) | (m->box.hi[1] < lo_y) |
-                                (m->box.lo[2] > hi_z) | (m->box.hi[2] < lo_z);
-              kept[count] = m->triangle;
+              const std::uint32_t id = m->triangle_and_lowest;
+#if defined(__SSE2__)
+              // All six comparisons in one instruction.
+              const __m128i values = _mm_load_si128(reinterpret_cast<const __m128i*>(m));
+              const bool outside = _mm_movemask_epi8(_mm_cmpgt_epi16(values, limits)) != 0;
+#else
+              bool outside = false;
+              for (int k = 0; k < kQuantisedLanes; ++k) outside |= m->quantised[k] > limit[k];
+#endif
+              const bool skip = outside | (((id >> kLowestShift) & need) != need);
+              kept[count] = id & kTriangleMask;
               count += !skip;
             }
           }
@@ -410,7 +456,7 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const u
   stats_.memory_bytes = dops.size() * sizeof(Dop18) + cell_first_.capacity() * sizeof(std::uint64_t) + cursor_bytes +
                         n * (6 * sizeof(std::uint32_t) + sizeof(std::uint64_t)) +
                         members_.capacity() * sizeof(Member) + place_in_cell_.capacity() * sizeof(std::uint32_t) +
-                        boxes_.capacity() * sizeof(FloatBox) +
+                        boxes_.capacity() * sizeof(Member) +
                         query_order_.capacity() * sizeof(Index) + home_first_.capacity() * sizeof(std::uint64_t) +
                         partner_count_.capacity() * sizeof(std::uint32_t) +
                         run_start_.capacity() * sizeof(std::size_t) +

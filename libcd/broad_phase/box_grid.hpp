@@ -2,13 +2,15 @@
 // triangle by triangle, with no subdivision and no global sort.
 //
 //   1. 18-DOPs of the triangles (static, or swept over the step), whose axis
-//      slabs are the boxes, rounded outwards to floats once per triangle;
+//      slabs are the boxes, quantised to 16-bit integers once per triangle
+//      (a monotone map, so no overlapping pair is lost);
 //   2. a uniform grid over the boxes; each triangle is registered in every
 //      cell its box overlaps (a stable counting sort by cell, so that each
-//      cell lists its triangles in order), with its float box and three bits saying
-//      whether the cell is the box's lowest along each axis, so that a cell's
-//      scan streams 32 bytes per triangle and needs nothing else; each
-//      registration's place in its cell is kept;
+//      cell lists its triangles in order), with its quantised box and three
+//      bits saying whether the cell is the box's lowest along each axis, so
+//      that a cell's scan streams 16 bytes per triangle, tests each box with
+//      one SSE2 comparison and needs nothing else; each registration's place
+//      in its cell is kept;
 //   3. for each triangle a, in parallel over fixed blocks of triangles (in
 //      their own order, or, for a large mesh whose order is not spatial, in
 //      the order of their box's lowest cell, so that queries one after
@@ -113,19 +115,23 @@ class BoxGridBroadPhase : public BroadPhase {
   std::vector<std::vector<std::uint64_t>> range_cursors_;
   std::vector<std::uint32_t> cell_lo_[3], cell_hi_[3];  ///< #F cell range of each box, per axis
   std::vector<std::uint64_t> first_registration_;       ///< #F + 1, prefix sum of range volumes
-  /// A triangle's box rounded outwards to floats (half the bytes to stream;
-  /// the exact DOP test follows).
-  struct FloatBox {
-    float lo[3], hi[3];
+  /// A registration, 16 bytes: the triangle's box quantised, and the
+  /// triangle with three bits saying whether the cell is the box's lowest
+  /// along each axis. Each coordinate v of the box along axis k becomes
+  /// floor((v - scene low corner) · kQuantumMax / scene extent), clamped to
+  /// [0, kQuantumMax]: a monotone map, so that boxes that overlap keep
+  /// overlapping (boxes that touch only after it are culled by the DOP test
+  /// that follows). The high corner is stored negated, so that the box test
+  /// is six "at most" comparisons (one SSE2 instruction).
+  struct alignas(16) Member {
+    std::int16_t quantised[6];  ///< low corner x, y, z, then the negated high corner
+    std::uint32_t triangle_and_lowest;  ///< triangle | lowest-cell bits << kLowestShift
   };
-  std::vector<FloatBox> boxes_;  ///< #F
-  /// A registration: the triangle and its float box.
-  struct Member {
-    FloatBox box;
-    Index triangle;
-    /// Bit k: this cell is the lowest of the triangle's cells along axis k.
-    std::uint32_t lowest_along;
-  };
+  static constexpr int kQuantisedLanes = 6;
+  static constexpr std::int16_t kQuantumMax = 32767;
+  static constexpr int kLowestShift = 29;
+  static constexpr std::uint32_t kTriangleMask = (std::uint32_t(1) << kLowestShift) - 1;
+  std::vector<Member> boxes_;  ///< #F, each triangle's quantised box (lowest bits 0)
   std::vector<Member> members_;  ///< registrations in cell order, each cell by triangle
   /// Per registration in triangle order (first_registration_[t] + the
   /// cell's rank in t's box, x fastest): its place within its cell.

@@ -324,6 +324,32 @@ TEST(BoxGrid, OneHugeTriangleAmongTinyOnesKeepsTheGridBounded) {
   expect_box_grid_equals_brute_force(soup, {}, "one huge triangle");
 }
 
+TEST(BoxGrid, BoxesFinerThanTheQuantisationGiveBruteForceSets) {
+  // Two triangles a million units apart stretch the scene, so one step of
+  // the quantised boxes is about 30 units; a cluster of tiny triangles
+  // (0.01 across, many touching exactly along x) all quantise to the same
+  // box. No overlapping pair may be lost, and those that only share a
+  // quantum are culled by the DOP test.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 0.2);
+  std::vector<Vec3> x{{-5e5, -5e5, -5e5}, {-5e5 + 1, -5e5, -5e5}, {-5e5, -5e5 + 1, -5e5},
+                      {5e5, 5e5, 5e5},    {5e5 - 1, 5e5, 5e5},    {5e5, 5e5 - 1, 5e5}};
+  std::vector<Triangle> tris{{0, 1, 2}, {3, 4, 5}};
+  for (Index k = 0; k < 1500; ++k) {
+    const Index base = static_cast<Index>(x.size());
+    if (k % 3 == 0) {  // a row whose boxes touch: x from 0.01·k to 0.01·(k + 1)
+      const double x0 = 0.01 * (k / 3), y = 1000.0 + u(rng), z = -2000.0 + u(rng);
+      x.insert(x.end(), {Vec3{x0, y, z}, Vec3{x0 + 0.01, y + 0.003, z}, Vec3{x0 + 0.005, y, z + 0.004}});
+    } else {
+      const Vec3 c{u(rng), 1000.0 + u(rng), -2000.0 + u(rng)};
+      x.insert(x.end(), {c, c + Vec3{0.01, 0.002, 0}, c + Vec3{0, 0.01, 0.006}});
+    }
+    tris.push_back({base, base + 1, base + 2});
+  }
+  Soup soup{Scene({make_object("cluster", static_cast<Index>(x.size()), tris)}), x, x};
+  expect_box_grid_equals_brute_force(soup, {}, "tiny cluster in a huge scene");
+}
+
 // Box grids a (one thread) and b (two), built on soup: the same static pairs
 // on both frames, the same CCD sets and the same number of box tests.
 void expect_same_for_one_and_two_threads(const Soup& soup, BoxGridBroadPhase& a, BoxGridBroadPhase& b) {
