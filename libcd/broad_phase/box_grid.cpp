@@ -81,8 +81,8 @@ void BoxGridBroadPhase::build_grid() {
 void BoxGridBroadPhase::choose_grid() {
   const std::vector<Dop18>& dops = *dops_;
   const std::size_t n = dops.size();
-  if (n > kTriangleMask)
-    throw UsageError("box grid: at most " + std::to_string(kTriangleMask) + " triangles per detection, this one has " +
+  if (n > kMaxTriangles)
+    throw UsageError("box grid: at most " + std::to_string(kMaxTriangles) + " triangles per detection, this one has " +
                      std::to_string(n));
   // The scene's bounds and the sum of the boxes' largest extents, per fixed
   // block in parallel, then added up in block order.
@@ -209,7 +209,7 @@ void BoxGridBroadPhase::register_boxes() {
   range_cursors_.resize(ranges);
   auto range_begin = [&](std::size_t r) { return n * r / ranges; };
   tbb::parallel_for(std::size_t(0), ranges, [&](std::size_t r) {
-    std::vector<std::uint64_t>& count = range_cursors_[r];
+    std::vector<std::uint32_t>& count = range_cursors_[r];
     count.assign(cells, 0);
     for (std::size_t t = range_begin(r); t < range_begin(r + 1); ++t)
       for_each_cell(t, [&](std::size_t c, std::uint32_t) { ++count[c]; });
@@ -218,9 +218,9 @@ void BoxGridBroadPhase::register_boxes() {
   cell_first_[0] = 0;
   std::size_t used = 0;
   for (std::size_t c = 0; c < cells; ++c) {
-    std::uint64_t next = cell_first_[c];
+    std::uint32_t next = cell_first_[c];
     for (std::size_t r = 0; r < ranges; ++r) {
-      const std::uint64_t count = range_cursors_[r][c];
+      const std::uint32_t count = range_cursors_[r][c];
       range_cursors_[r][c] = next;
       next += count;
     }
@@ -228,17 +228,20 @@ void BoxGridBroadPhase::register_boxes() {
     cell_first_[c + 1] = next;
   }
   members_.resize(registrations);
-  place_in_cell_.resize(registrations);
+  scan_first_.resize(registrations);
+  scan_end_.resize(registrations);
   tbb::parallel_for(std::size_t(0), ranges, [&](std::size_t r) {
-    std::vector<std::uint64_t>& next = range_cursors_[r];
+    std::vector<std::uint32_t>& next = range_cursors_[r];
     for (std::size_t t = range_begin(r); t < range_begin(r + 1); ++t) {
       Member member = boxes_[t];
-      std::uint32_t* place = place_in_cell_.data() + first_registration_[t];
+      std::uint32_t* scan_first = scan_first_.data() + first_registration_[t];
+      std::uint32_t* scan_end = scan_end_.data() + first_registration_[t];
       for_each_cell(t, [&](std::size_t c, std::uint32_t lowest_along) {
         member.triangle_and_lowest = static_cast<std::uint32_t>(t) | lowest_along << kLowestShift;
-        const std::uint64_t slot = next[c]++;
+        const std::uint32_t slot = next[c]++;
         members_[slot] = member;
-        *place++ = static_cast<std::uint32_t>(slot - cell_first_[c]);
+        *scan_first++ = slot + 1;
+        *scan_end++ = cell_first_[c + 1];
       });
     }
   });
@@ -294,12 +297,11 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const u
   block_culled_.assign(blocks, 0);
   block_left_out_.assign(blocks, 0);
   const std::vector<Triangle>& triangles = scene_->triangles();
-  const std::size_t dim_x = static_cast<std::size_t>(dims_[0]), dim_y = static_cast<std::size_t>(dims_[1]);
   const Member* members = members_.data();
-  const std::uint64_t* cell_first = cell_first_.data();
   const std::uint32_t *cell_lo_x = cell_lo_[0].data(), *cell_lo_y = cell_lo_[1].data(), *cell_lo_z = cell_lo_[2].data();
   const std::uint32_t *cell_hi_x = cell_hi_[0].data(), *cell_hi_y = cell_hi_[1].data(), *cell_hi_z = cell_hi_[2].data();
-  const std::uint32_t* place_in_cell = place_in_cell_.data();
+  const std::uint32_t* scan_first = scan_first_.data();
+  const std::uint32_t* scan_end = scan_end_.data();
   const std::uint64_t* first_registration = first_registration_.data();
   const Index* query_order = spatial_queries_ ? query_order_.data() : nullptr;
   if (spatial_queries_) {
@@ -314,17 +316,26 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const u
     const std::size_t end = std::min(n, (block + 1) * kBlock);
     for (std::size_t q = block * kBlock; q < end; ++q) {
       const Index a = query_order ? query_order[q] : static_cast<Index>(q);
-      if (query_order && q + kPrefetchQueries < end) {
+      if (query_order && q + 2 * kPrefetchQueries < end) {
         // In the spatial order a query's own arrays are far from the last
         // one's: fetch those of a later query now (cloth-ball: a tenth of
         // this stage waited on a's box).
-        const Index later = query_order[q + kPrefetchQueries];
+        const Index later = query_order[q + 2 * kPrefetchQueries];
         __builtin_prefetch(&boxes_[later]);
         __builtin_prefetch(&first_registration[later]);
         for (const std::uint32_t* cells : {cell_lo_x, cell_lo_y, cell_lo_z, cell_hi_x, cell_hi_y, cell_hi_z})
           __builtin_prefetch(cells + later);
+        __builtin_prefetch(scan_first + first_registration[later]);
+        __builtin_prefetch(scan_end + first_registration[later]);
         __builtin_prefetch(&dops[later]);
         if (apart) __builtin_prefetch(&triangles[later]);
+      }
+      if (q + kPrefetchQueries < end) {
+        // The first members that a later query scans in each of its cells:
+        // waiting for them was half of this stage (cloth 100k).
+        const Index later = query_order ? query_order[q + kPrefetchQueries] : static_cast<Index>(q + kPrefetchQueries);
+        for (std::uint64_t r = first_registration[later]; r < first_registration[later + 1]; ++r)
+          __builtin_prefetch(members + scan_first[r]);
       }
       // b's box overlaps a's when each of b's six quantised values is at
       // most a's limit for it: b's low corners at most a's high ones, b's
@@ -340,14 +351,14 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const u
                                             INT16_MAX);
 #endif
       const std::uint32_t ax = cell_lo_x[a], ay = cell_lo_y[a], az = cell_lo_z[a];
-      const std::uint32_t* place = place_in_cell + first_registration[a];
+      const std::uint32_t* from = scan_first + first_registration[a];
+      const std::uint32_t* to = scan_end + first_registration[a];
       // First every cell's boxes, without branches (a branch would often
       // mispredict), the candidates compacted ...
       std::size_t count = 0;
       for (std::uint32_t z = az; z <= cell_hi_z[a]; ++z) {
         for (std::uint32_t y = ay; y <= cell_hi_y[a]; ++y) {
           for (std::uint32_t x = ax; x <= cell_hi_x[a]; ++x) {
-            const std::size_t c = x + dim_x * (y + dim_y * z);
             // The pair is kept only in the cell of the low corner of the
             // boxes' intersection, max(a's lowest cell, b's) along each
             // axis: along an axis where this cell is above a's lowest, it
@@ -355,8 +366,8 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const u
             const std::uint32_t need =
                 std::uint32_t(x != ax) | std::uint32_t(y != ay) << 1 | std::uint32_t(z != az) << 2;
             // The cell is sorted by triangle: those after a's own place are b > a.
-            const Member* m = members + cell_first[c] + *place++ + 1;
-            const Member* m_end = members + cell_first[c + 1];
+            const Member* m = members + *from++;
+            const Member* m_end = members + *to++;
             tests += static_cast<std::size_t>(m_end - m);
             if (candidates.size() < count + static_cast<std::size_t>(m_end - m))
               candidates.resize(2 * (count + static_cast<std::size_t>(m_end - m)));
@@ -452,10 +463,11 @@ void BoxGridBroadPhase::triangle_pairs(std::vector<TrianglePair>& pairs, const u
   stats_.leaf_triangles = n;
   stats_.seconds_pairs = seconds_since(t);
   std::size_t cursor_bytes = 0;
-  for (const auto& cursors : range_cursors_) cursor_bytes += cursors.capacity() * sizeof(std::uint64_t);
-  stats_.memory_bytes = dops.size() * sizeof(Dop18) + cell_first_.capacity() * sizeof(std::uint64_t) + cursor_bytes +
+  for (const auto& cursors : range_cursors_) cursor_bytes += cursors.capacity() * sizeof(std::uint32_t);
+  stats_.memory_bytes = dops.size() * sizeof(Dop18) + cell_first_.capacity() * sizeof(std::uint32_t) + cursor_bytes +
                         n * (6 * sizeof(std::uint32_t) + sizeof(std::uint64_t)) +
-                        members_.capacity() * sizeof(Member) + place_in_cell_.capacity() * sizeof(std::uint32_t) +
+                        members_.capacity() * sizeof(Member) +
+                        (scan_first_.capacity() + scan_end_.capacity()) * sizeof(std::uint32_t) +
                         boxes_.capacity() * sizeof(Member) +
                         query_order_.capacity() * sizeof(Index) + home_first_.capacity() * sizeof(std::uint64_t) +
                         partner_count_.capacity() * sizeof(std::uint32_t) +

@@ -9,8 +9,8 @@
 //      cell lists its triangles in order), with its quantised box and three
 //      bits saying whether the cell is the box's lowest along each axis, so
 //      that a cell's scan streams 16 bytes per triangle, tests each box with
-//      one SSE2 comparison and needs nothing else; each registration's place
-//      in its cell is kept;
+//      one SSE2 comparison and needs nothing else; for each registration,
+//      the part of its cell after it is noted, in triangle order;
 //   3. for each triangle a, in parallel over fixed blocks of triangles (in
 //      their own order, or, for a large mesh whose order is not spatial, in
 //      the order of their box's lowest cell, so that queries one after
@@ -86,7 +86,7 @@ class BoxGridBroadPhase : public BroadPhase {
   /// Chooses the cell size and dimensions for the boxes of dops_.
   void choose_grid();
   /// Registers every triangle in the cells of its box (a stable counting
-  /// sort by cell) and notes each registration's place in its cell.
+  /// sort by cell) and notes what each registration's query scans.
   void register_boxes();
   /// Decides whether to query the triangles in a spatial order
   /// (spatial_queries_) and, if so, sorts them into it (query_order_).
@@ -109,10 +109,12 @@ class BoxGridBroadPhase : public BroadPhase {
   double origin_[3] = {0, 0, 0};
   double inverse_cell_size_ = 1;
   std::int64_t dims_[3] = {1, 1, 1};
-  std::vector<std::uint64_t> cell_first_;  ///< #cells + 1, start of each cell's registrations
+  /// Registrations are counted in 32 bits: choose_grid allows at most
+  /// kMaxTriangles triangles, so at most 16·#F + 64 < 2^32 registrations.
+  std::vector<std::uint32_t> cell_first_;  ///< #cells + 1, start of each cell's registrations
   /// Per range of triangles registered by one thread, #cells: its counts,
   /// then its cursors in the counting sort.
-  std::vector<std::vector<std::uint64_t>> range_cursors_;
+  std::vector<std::vector<std::uint32_t>> range_cursors_;
   std::vector<std::uint32_t> cell_lo_[3], cell_hi_[3];  ///< #F cell range of each box, per axis
   std::vector<std::uint64_t> first_registration_;       ///< #F + 1, prefix sum of range volumes
   /// A registration, 16 bytes: the triangle's box quantised, and the
@@ -131,11 +133,17 @@ class BoxGridBroadPhase : public BroadPhase {
   static constexpr std::int16_t kQuantumMax = 32767;
   static constexpr int kLowestShift = 29;
   static constexpr std::uint32_t kTriangleMask = (std::uint32_t(1) << kLowestShift) - 1;
+  /// The most triangles in one detection: ids fit under kTriangleMask and
+  /// 16·#F + 64 registrations in 32 bits.
+  static constexpr std::size_t kMaxTriangles = (std::size_t(1) << 28) - 64;
   std::vector<Member> boxes_;  ///< #F, each triangle's quantised box (lowest bits 0)
   std::vector<Member> members_;  ///< registrations in cell order, each cell by triangle
   /// Per registration in triangle order (first_registration_[t] + the
-  /// cell's rank in t's box, x fastest): its place within its cell.
-  std::vector<std::uint32_t> place_in_cell_;
+  /// cell's rank in t's box, x fastest): what t's query scans in that cell,
+  /// the members after t's own (scan_first_) up to the cell's end
+  /// (scan_end_). A query reads them in order, and prefetches the members
+  /// of a later query from them, without looking the cells up.
+  std::vector<std::uint32_t> scan_first_, scan_end_;
   /// Whether the triangles are queried in query_order_ rather than in their
   /// own order: only when there are many and their order is not spatial.
   bool spatial_queries_ = false;
