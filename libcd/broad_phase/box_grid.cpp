@@ -25,6 +25,15 @@ namespace {
 
 using namespace broad_phase_support;
 
+/// The cell size over the mean of the boxes' largest extents. With the
+/// 16-byte registrations and their one-instruction box test, registering
+/// costs more than testing: snag-bench-pipeline --static-only, 2 threads,
+/// pairs of runs at 1, 1.8, 2, 2.4, 3 and 4 times the mean extent gave
+/// cloth 100k 5.2-6.4x CGAL at 1 and 5.5-7.0x from 1.8 on, cloth 10k
+/// 4.8-4.9x at 1 and 5.2-7.6x from 1.8 on, the samples 4.3-4.6x at 1 and
+/// 3.8-6.0x from 1.8 on, with no clear best above 1.8.
+constexpr double kCellPerExtent = 2.0;
+
 /// Triangles per block of the scene-bounds pass: fixed, so that the sum of
 /// box extents (and so the grid) does not depend on the thread count.
 constexpr std::size_t kBoundsBlock = 4096;
@@ -119,7 +128,7 @@ void BoxGridBroadPhase::choose_grid() {
     quantum_scale[a] = hi[a] > lo[a] && std::isfinite(hi[a] - lo[a]) ? double(kQuantumMax) / (hi[a] - lo[a]) : 0.0;
   double span = 0;
   for (int a = 0; a < 3; ++a) span = std::max(span, hi[a] - lo[a]);
-  double size = n ? scene.extent_sum / double(n) : 1.0;
+  double size = n ? kCellPerExtent * scene.extent_sum / double(n) : 1.0;
   if (!(size > 0) || !std::isfinite(size)) size = span > 0 ? span : 1.0;
   const double max_cells = 4.0 * double(n) + 64.0;
   const double max_registrations = 16.0 * double(n) + 64.0;
@@ -187,13 +196,18 @@ void BoxGridBroadPhase::register_boxes() {
   const std::size_t n = dops_->size();
   const std::size_t cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
   const std::size_t registrations = first_registration_[n];
-  // visit(cell, lowest_along bits) for every cell of triangle t's box.
-  auto for_each_cell = [&](std::size_t t, auto&& visit) {
+  // visit(cell, lowest_along bits) for every cell of triangle t's box. The
+  // box's cell range is read into locals first: the writes in visit may
+  // alias the arrays as far as the compiler knows.
+  const std::size_t dim_x = static_cast<std::size_t>(dims_[0]);
+  const std::size_t dim_xy = static_cast<std::size_t>(dims_[0] * dims_[1]);
+  auto for_each_cell = [&, dim_x, dim_xy](std::size_t t, auto&& visit) {
     const std::uint32_t lo_x = cell_lo_[0][t], lo_y = cell_lo_[1][t], lo_z = cell_lo_[2][t];
-    for (std::uint32_t z = lo_z; z <= cell_hi_[2][t]; ++z)
-      for (std::uint32_t y = lo_y; y <= cell_hi_[1][t]; ++y)
-        for (std::uint32_t x = lo_x; x <= cell_hi_[0][t]; ++x)
-          visit(std::size_t(x) + std::size_t(dims_[0]) * (std::size_t(y) + std::size_t(dims_[1]) * z),
+    const std::uint32_t hi_x = cell_hi_[0][t], hi_y = cell_hi_[1][t], hi_z = cell_hi_[2][t];
+    for (std::uint32_t z = lo_z; z <= hi_z; ++z)
+      for (std::uint32_t y = lo_y; y <= hi_y; ++y)
+        for (std::uint32_t x = lo_x; x <= hi_x; ++x)
+          visit(std::size_t(x) + dim_x * std::size_t(y) + dim_xy * std::size_t(z),
                 std::uint32_t(x == lo_x) | std::uint32_t(y == lo_y) << 1 | std::uint32_t(z == lo_z) << 2);
   };
   // A stable counting sort by cell: the registrations of a cell come out in
@@ -209,10 +223,10 @@ void BoxGridBroadPhase::register_boxes() {
   range_cursors_.resize(ranges);
   auto range_begin = [&](std::size_t r) { return n * r / ranges; };
   tbb::parallel_for(std::size_t(0), ranges, [&](std::size_t r) {
-    std::vector<std::uint32_t>& count = range_cursors_[r];
-    count.assign(cells, 0);
+    range_cursors_[r].assign(cells, 0);
+    std::uint32_t* __restrict__ count = range_cursors_[r].data();
     for (std::size_t t = range_begin(r); t < range_begin(r + 1); ++t)
-      for_each_cell(t, [&](std::size_t c, std::uint32_t) { ++count[c]; });
+      for_each_cell(t, [count](std::size_t c, std::uint32_t) { ++count[c]; });
   });
   cell_first_.resize(cells + 1);
   cell_first_[0] = 0;
@@ -231,17 +245,20 @@ void BoxGridBroadPhase::register_boxes() {
   scan_first_.resize(registrations);
   scan_end_.resize(registrations);
   tbb::parallel_for(std::size_t(0), ranges, [&](std::size_t r) {
-    std::vector<std::uint32_t>& next = range_cursors_[r];
+    std::uint32_t* __restrict__ next = range_cursors_[r].data();
+    Member* __restrict__ members = members_.data();
+    const std::uint32_t* __restrict__ cell_end = cell_first_.data() + 1;
+    // A range's registrations are consecutive in triangle order.
+    std::uint32_t* __restrict__ scan_first = scan_first_.data() + first_registration_[range_begin(r)];
+    std::uint32_t* __restrict__ scan_end = scan_end_.data() + first_registration_[range_begin(r)];
     for (std::size_t t = range_begin(r); t < range_begin(r + 1); ++t) {
       Member member = boxes_[t];
-      std::uint32_t* scan_first = scan_first_.data() + first_registration_[t];
-      std::uint32_t* scan_end = scan_end_.data() + first_registration_[t];
       for_each_cell(t, [&](std::size_t c, std::uint32_t lowest_along) {
         member.triangle_and_lowest = static_cast<std::uint32_t>(t) | lowest_along << kLowestShift;
         const std::uint32_t slot = next[c]++;
-        members_[slot] = member;
+        members[slot] = member;
         *scan_first++ = slot + 1;
-        *scan_end++ = cell_first_[c + 1];
+        *scan_end++ = cell_end[c];
       });
     }
   });

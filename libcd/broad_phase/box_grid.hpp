@@ -27,8 +27,8 @@
 //      order (or, in the spatial order, each a's run copied to its place in
 //      triangle order), so the output is sorted and the same for every
 //      thread count.
-// The cell size is the mean box extent (at 1.5 times it, static detection of
-// cloth 100k took about a tenth longer on one thread), grown until the grid has at
+// The cell size is twice the mean box extent (kCellPerExtent: registering
+// costs more than the box tests it saves), grown until the grid has at
 // most 4·#F + 64 cells and at most 16·#F registrations, so memory stays
 // linear in the triangle count whatever the sizes (a scene of one huge
 // triangle and many small ones ends with coarse cells, not a blow-up).
