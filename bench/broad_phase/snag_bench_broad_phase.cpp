@@ -26,16 +26,6 @@ double median(std::vector<double> v) {
   return v.empty() ? 0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
 }
 
-const char* method_name(BroadPhaseMethod m) {
-  switch (m) {
-    case BroadPhaseMethod::kVirtualSubdivisionGrid: return "vss-grid";
-    case BroadPhaseMethod::kLargestTriangleGrid: return "largest-grid";
-    case BroadPhaseMethod::kBoxGrid: return "box-grid";
-    case BroadPhaseMethod::kBruteForce: return "brute-force";
-  }
-  return "?";
-}
-
 struct Result {
   std::string mode, method;
   BroadPhaseStats stats;  // of the last run (counts do not vary)
@@ -106,7 +96,7 @@ int main(int argc, char** argv) {
       for (BroadPhaseMethod method : methods) {
         auto phase = snag::make_broad_phase(method);
         phase->build(scene, settings);
-        Result r{mode, method_name(method), {}};
+        Result r{mode, broad_phase_method_name(method), {}};
         std::vector<double> total, bounds, subdivision, registration, pairs, features;
         for (int k = 0; k < runs; ++k) {
           if (std::string(mode) == "ccd") {

@@ -12,6 +12,7 @@
 
 #include "bench/pipeline/cgal_self_intersections.hpp"
 #include "bench/pipeline/process_cpu_time.hpp"
+#include "libcd/cpu/cpu_backend.hpp"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/triangle_triangle_frame.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
@@ -211,17 +212,6 @@ void tally_accuracy(const std::vector<Candidate>& candidates, std::size_t first_
 
 }  // namespace
 
-const char* method_name(BroadPhaseMethod method) {
-  switch (method) {
-    case BroadPhaseMethod::kVirtualSubdivisionGrid: return "vss-grid";
-    case BroadPhaseMethod::kLargestTriangleGrid: return "largest-grid";
-    case BroadPhaseMethod::kBruteForce: return "brute-force";
-    case BroadPhaseMethod::kBoxGrid: return "box-grid";
-    case BroadPhaseMethod::kAdaptiveGrid: return "adaptive-grid";
-  }
-  return "?";
-}
-
 json measure_broad_phase(const BenchScene& bench, BroadPhaseMethod method, bool ccd, const MeasureSettings& settings) {
   auto phase = make_broad_phase(method);
   phase->build(bench.scene, broad_settings(settings, ccd));
@@ -254,7 +244,7 @@ json measure_broad_phase(const BenchScene& bench, BroadPhaseMethod method, bool 
   };
   const BroadPhaseStats& counts = ccd ? passes.back().ccd_broad : passes.back().static_broad;
   return {{"mode", ccd ? "ccd" : "static"},
-          {"method", method_name(method)},
+          {"method", broad_phase_method_name(method)},
           {"passes", passes.size()},
           {"seconds",
            {{"bounds", stage(&BroadPhaseStats::seconds_bounds)},
@@ -368,23 +358,29 @@ json measure_ccd_accuracy(const BenchScene& bench, const MeasureSettings& settin
 }
 
 json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& settings) {
+  // snag with its box grid (the default), and with sweep and prune instead,
+  // side by side.
   auto backend = make_cpu_backend();
   backend->bind(bench.scene, backend_settings(settings, nullptr));
-  std::vector<std::vector<TrianglePair>> snag_pairs(bench.frames.size());
+  CpuBackendOptions sweep_options;
+  sweep_options.broad_phase = BroadPhaseMethod::kSweepAndPrune;
+  auto sweep_backend = make_cpu_backend(sweep_options);
+  sweep_backend->bind(bench.scene, backend_settings(settings, nullptr));
+  std::vector<std::vector<TrianglePair>> snag_pairs(bench.frames.size()), sweep_pairs(bench.frames.size());
   std::vector<Event> events;
   PipelineStats stages;  // of the last pass
-  // A pass: every frame, its wall and CPU seconds.
+  // A pass of `detector`: every frame, its wall and CPU seconds.
   using PassSeconds = std::pair<double, double>;
-  const std::function<PassSeconds()> snag_pass = [&] {
+  const auto snag_pass = [&](Backend& detector, std::vector<std::vector<TrianglePair>>& found, bool keep_stages) {
     const double cpu_start = process_cpu_seconds();
     const auto start = Clock::now();
-    stages = PipelineStats{};
+    if (keep_stages) stages = PipelineStats{};
     for (std::size_t f = 0; f < bench.frames.size(); ++f) {
       events.clear();
-      backend->intersections(bench.frames[f], events);
-      stages.add(backend->stats());
-      snag_pairs[f].clear();
-      for (const Event& e : events) snag_pairs[f].push_back({std::min(e.a, e.b), std::max(e.a, e.b)});
+      detector.intersections(bench.frames[f], events);
+      if (keep_stages) stages.add(detector.stats());
+      found[f].clear();
+      for (const Event& e : events) found[f].push_back({std::min(e.a, e.b), std::max(e.a, e.b)});
     }
     return PassSeconds{seconds_since(start), process_cpu_seconds() - cpu_start};
   };
@@ -403,16 +399,31 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
   };
   // The passes alternate (snag, CGAL, snag, ...), so that other work on the
   // machine slows both alike.
-  std::vector<double> snag_passes, cgal_passes, snag_cpu, cgal_cpu;
-  const std::function<std::pair<PassSeconds, PassSeconds>()> both = [&] {
-    const PassSeconds snag_seconds = snag_pass();
-    return std::make_pair(snag_seconds, cgal_pass());
+  std::vector<double> snag_passes, cgal_passes, snag_cpu, cgal_cpu, sweep_passes;
+  struct Passes {
+    PassSeconds snag, sweep, cgal;
   };
-  for (const auto& [snag_seconds, cgal_seconds] : timed_passes(settings, both)) {
-    snag_passes.push_back(snag_seconds.first);
-    snag_cpu.push_back(snag_seconds.second);
-    cgal_passes.push_back(cgal_seconds.first);
-    cgal_cpu.push_back(cgal_seconds.second);
+  const std::function<Passes()> all = [&] {
+    Passes passes;
+    passes.snag = snag_pass(*backend, snag_pairs, true);
+    passes.sweep = snag_pass(*sweep_backend, sweep_pairs, false);
+    passes.cgal = cgal_pass();
+    return passes;
+  };
+  for (const Passes& passes : timed_passes(settings, all)) {
+    snag_passes.push_back(passes.snag.first);
+    snag_cpu.push_back(passes.snag.second);
+    sweep_passes.push_back(passes.sweep.first);
+    cgal_passes.push_back(passes.cgal.first);
+    cgal_cpu.push_back(passes.cgal.second);
+  }
+  const double sweep_seconds = median(sweep_passes);
+  std::size_t sweep_differs = 0;  // frames where sweep and prune's pairs are not the box grid's
+  for (std::size_t f = 0; f < bench.frames.size(); ++f) {
+    std::sort(sweep_pairs[f].begin(), sweep_pairs[f].end());
+    std::vector<TrianglePair> ours = snag_pairs[f];
+    std::sort(ours.begin(), ours.end());
+    sweep_differs += ours != sweep_pairs[f];
   }
   const double snag_seconds = median(snag_passes);
   const double cgal_seconds = median(cgal_passes);
@@ -459,6 +470,9 @@ json measure_static_vs_cgal(const BenchScene& bench, const MeasureSettings& sett
           {"snag_seconds", snag_seconds},
           {"cgal_seconds", cgal_seconds},
           {"speedup", snag_seconds > 0 ? cgal_seconds / snag_seconds : 0.0},
+          {"sweep_and_prune_seconds", sweep_seconds},
+          {"sweep_and_prune_speedup", sweep_seconds > 0 ? cgal_seconds / sweep_seconds : 0.0},
+          {"sweep_and_prune_frames_differing", sweep_differs},
           {"snag_fastest_seconds", snag_fastest},
           {"cgal_fastest_seconds", cgal_fastest},
           {"speedup_fastest", snag_fastest > 0 ? cgal_fastest / snag_fastest : 0.0},

@@ -22,8 +22,6 @@ struct MeasureSettings {
   std::size_t accuracy_sample = 2000;   ///< CCD candidates checked exactly besides the filter's yes/uncertain
 };
 
-/// "vss-grid", "largest-grid", "brute-force" or "box-grid".
-const char* method_name(BroadPhaseMethod method);
 
 /// One broad phase on every step (`ccd` true) or every frame: median stage
 /// times in seconds ("seconds": bounds, subdivision, registration, pairs,

@@ -76,13 +76,14 @@ json bench_scene(const BenchScene& bench, const MeasureSettings& settings, std::
   };
   if (static_only) return measure_static();
   std::vector<BroadPhaseMethod> methods = {BroadPhaseMethod::kVirtualSubdivisionGrid,
-                                           BroadPhaseMethod::kLargestTriangleGrid, BroadPhaseMethod::kBoxGrid};
+                                           BroadPhaseMethod::kLargestTriangleGrid, BroadPhaseMethod::kBoxGrid,
+                                           BroadPhaseMethod::kSweepAndPrune};
   if (bench.scene.triangle_count() < brute_force_limit) methods.push_back(BroadPhaseMethod::kBruteForce);
   std::size_t vss_ccd_candidates = 0;
   for (const bool ccd : {true, false}) {
     json vss, largest;
     for (const BroadPhaseMethod method : methods) {
-      std::fprintf(stderr, "  broad phase %s %s\n", ccd ? "ccd" : "static", snag::bench::method_name(method));
+      std::fprintf(stderr, "  broad phase %s %s\n", ccd ? "ccd" : "static", snag::broad_phase_method_name(method));
       const ChildResult child = measure_in_child(
           settings, [&] { return snag::bench::measure_broad_phase(bench, method, ccd, settings); });
       const json result = with_rss(child.value, child);
@@ -180,10 +181,11 @@ void print_tables(const json& report) {
   }
 
   std::printf("\nstatic detection: snag intersections() vs CGAL self_intersections (Parallel_if_available_tag, TBB); "
-              "passes alternate; median wall s, fastest pass (min), median process CPU s\n");
-  std::printf("%-10s %7s %9s %9s %8s %9s %8s %9s %9s %8s %10s %10s %8s %s\n", "scene", "frames", "snag_s", "cgal_s",
-              "speedup", "snag_min", "min_x", "snag_cpu", "cgal_cpu", "cpu_x", "snag_pairs", "cgal_pairs", "cgal_deg",
-              "pair sets");
+              "passes alternate; median wall s, fastest pass (min), median process CPU s; snag with its box grid, and "
+              "with sweep and prune (sap_s, sap_x; sap pairs: the same as the box grid's?)\n");
+  std::printf("%-10s %7s %9s %9s %8s %9s %8s %9s %9s %8s %9s %7s %10s %10s %8s %9s %s\n", "scene", "frames", "snag_s",
+              "cgal_s", "speedup", "snag_min", "min_x", "snag_cpu", "cgal_cpu", "cpu_x", "sap_s", "sap_x", "snag_pairs",
+              "cgal_pairs", "cgal_deg", "sap pairs", "pair sets");
   for (const json& scene : report["scenes"]) {
     const json& s = scene["static_vs_cgal"];
     std::string verdict = "identical";
@@ -191,13 +193,15 @@ void print_tables(const json& report) {
       verdict = "DIFFER: " + std::to_string(s["only_snag"].get<std::size_t>()) + " only snag, " +
                 std::to_string(s["only_cgal"].get<std::size_t>()) + " only CGAL";
     if (s["cgal_mesh_repaired"].get<bool>()) verdict += " (CGAL mesh repaired: vertices split)";
-    std::printf("%-10s %7zu %9.4f %9.4f %8.2f %9.4f %8.2f %9.4f %9.4f %8.2f %10zu %10zu %8zu %s\n",
+    std::printf("%-10s %7zu %9.4f %9.4f %8.2f %9.4f %8.2f %9.4f %9.4f %8.2f %9.4f %7.2f %10zu %10zu %8zu %9s %s\n",
                 scene["name"].get<std::string>().c_str(), s["frames"].get<std::size_t>(),
                 s["snag_seconds"].get<double>(), s["cgal_seconds"].get<double>(), s["speedup"].get<double>(),
                 s["snag_fastest_seconds"].get<double>(), s["speedup_fastest"].get<double>(),
                 s["snag_cpu_seconds"].get<double>(), s["cgal_cpu_seconds"].get<double>(),
-                s["speedup_cpu"].get<double>(), s["snag_pairs"].get<std::size_t>(),
-                s["cgal_pairs"].get<std::size_t>(), s["cgal_degenerate_faces"].get<std::size_t>(), verdict.c_str());
+                s["speedup_cpu"].get<double>(), s["sweep_and_prune_seconds"].get<double>(),
+                s["sweep_and_prune_speedup"].get<double>(), s["snag_pairs"].get<std::size_t>(),
+                s["cgal_pairs"].get<std::size_t>(), s["cgal_degenerate_faces"].get<std::size_t>(),
+                s["sweep_and_prune_frames_differing"].get<std::size_t>() == 0 ? "same" : "DIFFER", verdict.c_str());
   }
 
   std::printf("\nsnag static detection by stage (last pass, all frames, seconds; grid includes the vertex fans and "

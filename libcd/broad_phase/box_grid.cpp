@@ -548,17 +548,7 @@ void BoxGridBroadPhase::static_pairs(const std::vector<Vec3>& x, const std::vect
   run_with_threads(*arena_, [&] {
     stats_ = BroadPhaseStats{};
     const auto start = Clock::now();
-    const auto& triangles = scene_->triangles();
-    static_dops_.resize(triangles.size());
-    const double thickness = settings_.thickness;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 1024), [&](const auto& range) {
-      for (std::size_t f = range.begin(); f != range.end(); ++f) {
-        const Vec3 p[3] = {x[triangles[f][0]], x[triangles[f][1]], x[triangles[f][2]]};
-        // The pad of swept_dop over the same corners twice: the same DOP as
-        // compute_primitive_bounds(x, x) gives.
-        static_dops_[f] = dop_of_points(p, 3, rounding_pad(p, 3), thickness);
-      }
-    });
+    compute_static_triangle_dops(*scene_, x, settings_.thickness, static_dops_);
     dops_ = &static_dops_;
     stats_.seconds_bounds = seconds_since(start);
     const auto registration_start = Clock::now();

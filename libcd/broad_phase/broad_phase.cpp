@@ -2,6 +2,7 @@
 
 #include "libcd/broad_phase/box_grid.hpp"
 #include "libcd/broad_phase/brute_force.hpp"
+#include "libcd/broad_phase/sweep_and_prune.hpp"
 #include "libcd/broad_phase/virtual_subdivision_grid.hpp"
 
 namespace snag {
@@ -14,8 +15,21 @@ std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseMethod method) {
     case BroadPhaseMethod::kBoxGrid: return std::make_unique<BoxGridBroadPhase>();
     case BroadPhaseMethod::kAdaptiveGrid:
       return std::make_unique<VirtualSubdivisionGrid>(true, VirtualSubdivisionGrid::Cells::kAdaptive);
+    case BroadPhaseMethod::kSweepAndPrune: return std::make_unique<SweepAndPruneBroadPhase>();
   }
   return nullptr;
+}
+
+const char* broad_phase_method_name(BroadPhaseMethod method) {
+  switch (method) {
+    case BroadPhaseMethod::kVirtualSubdivisionGrid: return "vss-grid";
+    case BroadPhaseMethod::kLargestTriangleGrid: return "largest-grid";
+    case BroadPhaseMethod::kBruteForce: return "brute-force";
+    case BroadPhaseMethod::kBoxGrid: return "box-grid";
+    case BroadPhaseMethod::kAdaptiveGrid: return "adaptive-grid";
+    case BroadPhaseMethod::kSweepAndPrune: return "sweep-and-prune";
+  }
+  return "?";
 }
 
 }  // namespace snag

@@ -127,8 +127,13 @@ enum class BroadPhaseMethod {
   kBruteForce,              ///< all triangle pairs (brute_force.hpp)
   kBoxGrid,                 ///< the CPU's grid of triangle boxes, queried triangle by triangle (box_grid.hpp)
   kAdaptiveGrid,            ///< the VSS grid with crowded cells subdivided (grid/adaptive_cells.hpp); CPU only
+  kSweepAndPrune,           ///< boxes sorted along one axis and swept (sweep_and_prune.hpp); CPU only
 };
 
 std::unique_ptr<BroadPhase> make_broad_phase(BroadPhaseMethod method);
+
+/// The method's name in benchmarks and reports: "vss-grid", "largest-grid",
+/// "brute-force", "box-grid", "adaptive-grid" or "sweep-and-prune".
+const char* broad_phase_method_name(BroadPhaseMethod method);
 
 }  // namespace snag

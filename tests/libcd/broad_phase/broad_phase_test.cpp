@@ -6,6 +6,9 @@
 //   movers, and the reference meshes.
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <utility>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -275,8 +278,10 @@ TEST(VirtualSubdivisionGrid, StaticMeshesMatchOracles) {
 }
 
 // The box grid returns T_root exactly: brute force's sets, static and CCD.
-void expect_box_grid_equals_brute_force(const Soup& soup, const BroadPhaseSettings& settings, const std::string& what) {
-  BoxGridBroadPhase grid;
+void expect_box_grid_equals_brute_force(const Soup& soup, const BroadPhaseSettings& settings, const std::string& what,
+                                        BroadPhaseMethod method = BroadPhaseMethod::kBoxGrid) {
+  std::unique_ptr<BroadPhase> phase = make_broad_phase(method);
+  BroadPhase& grid = *phase;
   BruteForceBroadPhase brute;
   grid.build(soup.scene, settings);
   brute.build(soup.scene, settings);
@@ -504,15 +509,20 @@ TEST(BoxGrid, LeavingOutApartVerticesGivesBruteForceSetsWithoutTheirPairs) {
           for (const Index vb : soup->scene.triangles()[p.b]) shares_apart = shares_apart || (va == vb && apart[va]);
         if (!shares_apart) expected.push_back(p);
       }
-      for (unsigned threads : {1u, 2u}) {
+      for (const auto [threads, method] : {std::pair{1u, BroadPhaseMethod::kBoxGrid},
+                                           std::pair{2u, BroadPhaseMethod::kBoxGrid},
+                                           std::pair{1u, BroadPhaseMethod::kSweepAndPrune},
+                                           std::pair{2u, BroadPhaseMethod::kSweepAndPrune}}) {
         BroadPhaseSettings settings;
         settings.threads = threads;
-        BoxGridBroadPhase grid;
+        std::unique_ptr<BroadPhase> phase = make_broad_phase(method);
+        BroadPhase& grid = *phase;
         grid.build(soup->scene, settings);
         std::vector<TrianglePair> pairs;
         grid.detect_static_leaving_out(soup->x_t0, apart, pairs);
-        EXPECT_TRUE(pairs == expected) << soup->scene.objects()[0].name << ", share " << share << ", threads "
-                                       << threads << ": " << pairs.size() << " pairs, expected " << expected.size();
+        EXPECT_TRUE(pairs == expected) << broad_phase_method_name(method) << ", " << soup->scene.objects()[0].name
+                                       << ", share " << share << ", threads " << threads << ": " << pairs.size()
+                                       << " pairs, expected " << expected.size();
         EXPECT_EQ(grid.stats().left_out_apart, all.size() - expected.size());
         // The flags filled by the callback, alongside the registration.
         std::vector<unsigned char> filled(apart.size(), 0);
@@ -530,6 +540,31 @@ TEST(BoxGrid, LeavingOutApartVerticesGivesBruteForceSetsWithoutTheirPairs) {
       if (share == 1.0) EXPECT_LT(expected.size(), all.size() / 4);
     }
   }
+}
+
+TEST(SweepAndPrune, EqualsBruteForceOnUnevenSoupsAndStackedBoxes) {
+  for (unsigned seed : {21u, 22u}) {
+    for (unsigned threads : {1u, 2u}) {
+      BroadPhaseSettings settings;
+      settings.threads = threads;
+      expect_box_grid_equals_brute_force(random_soup(seed, 400, true), settings, "soup " + std::to_string(seed),
+                                         BroadPhaseMethod::kSweepAndPrune);
+      settings.thickness = 0.05;
+      expect_box_grid_equals_brute_force(random_soup(seed, 300, true), settings, "thick soup " + std::to_string(seed),
+                                         BroadPhaseMethod::kSweepAndPrune);
+    }
+  }
+  // Boxes that start together along every axis (ties in the sort): a
+  // stack of equal triangles, some shifted along one axis only.
+  std::vector<Vec3> x;
+  std::vector<Triangle> tris;
+  for (Index k = 0; k < 60; ++k) {
+    const double shift = (k % 3) * 0.5;
+    x.insert(x.end(), {Vec3{0, 0, shift}, Vec3{1, 0, shift}, Vec3{0, 1, shift + 0.25}});
+    tris.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+  }
+  Soup stack{Scene({make_object("stack", static_cast<Index>(x.size()), tris)}), x, x};
+  expect_box_grid_equals_brute_force(stack, {}, "stack", BroadPhaseMethod::kSweepAndPrune);
 }
 
 // Over 32,768 triangles two threads register them in two ranges, each with
@@ -579,9 +614,12 @@ TEST(BoxGrid, RejectsPositionsOfTheWrongSize) {
 }
 
 TEST(BoxGrid, EqualsBruteForceOnReferenceMeshes) {
-  expect_box_grid_equals_brute_force(load_pair("thick-cloth/t0.ply", "thick-cloth/t1.ply"), {}, "thick cloth");
-  for (const char* name : {"bunny.ply", "two-cubes-close.ply", "two-cubes-intersecting.ply"})
-    expect_box_grid_equals_brute_force(load_pair(name, name), {}, name);
+  for (const BroadPhaseMethod method : {BroadPhaseMethod::kBoxGrid, BroadPhaseMethod::kSweepAndPrune}) {
+    expect_box_grid_equals_brute_force(load_pair("thick-cloth/t0.ply", "thick-cloth/t1.ply"), {}, "thick cloth",
+                                       method);
+    for (const char* name : {"bunny.ply", "two-cubes-close.ply", "two-cubes-intersecting.ply"})
+      expect_box_grid_equals_brute_force(load_pair(name, name), {}, name, method);
+  }
 }
 
 }  // namespace
