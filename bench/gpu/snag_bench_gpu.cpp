@@ -470,7 +470,8 @@ int run(int argc, char** argv) {
               "total", "ccd_broad", "ccd_narr", "certify", "dcd_broad", "dcd_narr", "vf", "ee", "pairs", "coll",
               "inter", "peak_MiB");
   std::fputs(table.c_str(), stdout);
-  std::printf("narrow phases in parts, ms: on the device (CUDA events) and building events on the host\n");
+  std::printf("narrow phases in parts, ms: on the device (CUDA events) and the events' host part (built there\n"
+              "on the CPU back end; settled and copied on CUDA)\n");
   std::printf("%-26s %-5s %-9s %9s %9s %9s %9s\n", "scene", "back", "broad", "ccd_dev", "ccd_evts", "dcd_dev",
               "dcd_evts");
   std::fputs(parts.c_str(), stdout);

@@ -11,16 +11,18 @@
 //  - broad phase: the GPU broad phase (libcd/cuda/cuda_broad_phase.cuh) on the
 //    positions in the slots; its candidates stay on the device.
 //  - narrow phase: libcd/cuda/narrow_phase.cuh (same functions as the CPU),
-//    reading the broad phase's candidates in place; only the hits, and the
-//    candidates they belong to, come back to the host. The GPU runs the
-//    screen (early exits and the search over time); the few candidates it
-//    leaves undecided get the whole test on the CPU (search_uncertain_hits),
+//    reading the broad phase's candidates in place. The GPU runs the screen
+//    (early exits and the search over time) and builds the hits' events
+//    (event_fields.hpp, the CPU's formulas); only the events come back to the
+//    host. The few candidates the screen leaves undecided (their events say
+//    kUncertain) get the whole test on the CPU (settle_collision_events),
 //    where one long (t, u, v) search does not hold up a kernel.
 //  - certification: the answers left uncertain go to settings.certifier on
 //    the CPU, as in the CPU back end.
-//  - events: built on the host from the same doubles with the same formulas
-//    (event_builder.hpp) and sorted with event_order: bit-identical to the
-//    CPU back end's.
+//  - events: built on the device from the same doubles with the same
+//    formulas (compiled with --fmad=false), settled on the host, and sorted
+//    with event_order (only when the broad phase ran in several chunks): bit-identical to the
+//    CPU back end's. Intersection events are built on the device too.
 //  - device memory: everything the back end allocates (DeviceBuffer) stays
 //    within a budget: BackendSettings::device_memory_bytes, or what the
 //    device has free at bind() less a margin. The CCD detection (broad and
@@ -74,24 +76,6 @@ constexpr std::size_t kChunkRoomCap = std::size_t{1} << 30;
 /// The narrow phase's share of a detection's budget, at most this much.
 constexpr std::size_t kNarrowRoomCap = std::size_t{512} << 20;
 
-/// Orders hits gathered from several chunks as one call over all candidates
-/// would: by candidate (candidates are unique and sorted within a chunk).
-template <class Candidate>
-void sort_hits_by_candidate(std::vector<CcdHit>& hits, std::vector<Candidate>& candidates) {
-  std::vector<std::uint32_t> order(hits.size());
-  for (std::uint32_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::sort(order.begin(), order.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return candidates[a] < candidates[b]; });
-  std::vector<CcdHit> sorted_hits(hits.size());
-  std::vector<Candidate> sorted_candidates(candidates.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    sorted_hits[k] = hits[order[k]];
-    sorted_candidates[k] = candidates[order[k]];
-  }
-  hits.swap(sorted_hits);
-  candidates.swap(sorted_candidates);
-}
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -121,11 +105,10 @@ struct FrameSlot {
   unsigned long long last_use = 0;
 };
 
-/// One frame's static detection on the device: the intersecting triangle
-/// pairs and the counts, from which the host builds the events.
+/// One frame's static detection on the device: its intersection events
+/// (built on the device) and the counts.
 struct StaticFound {
-  std::vector<std::uint32_t> hits;
-  std::vector<TrianglePair> pairs;
+  std::vector<Event> events;
   TrianglePairCounts counts;
   BroadPhaseStats broad;
   std::size_t tests = 0;
@@ -222,53 +205,37 @@ class CudaBackend final : public Backend {
     join_static_ahead();  // one detection on the device at a time (see the file comment)
 
     const std::size_t first = events.size();
-    // Host vectors are members, cleared and refilled: their pages stay mapped.
-    vf_answers_.clear();
-    ee_answers_.clear();
-    vf_hits_.clear();
-    ee_hits_.clear();
     narrow_.reset_timings();
     std::size_t vf_count = 0, ee_count = 0;
     double narrow_seconds = 0;
     use_budget(*ccd_broad_, narrow_, CudaNarrowPhase::kCcdBytesPerCandidate, *static_broad_, static_narrow_);
     ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), [&](const DeviceCandidates& chunk) {
       const auto narrow_start = std::chrono::steady_clock::now();
-      narrow_.vertex_face(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
-                          CcdPasses::kScreenOnly, vf_answers_, &vf_hits_.candidates);
-      narrow_.edge_edge(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
-                        CcdPasses::kScreenOnly, ee_answers_, &ee_hits_.candidates);
+      narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
+                                 CcdPasses::kScreenOnly, events);
+      narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
+                               CcdPasses::kScreenOnly, events);
       vf_count += chunk.vf_count;
       ee_count += chunk.ee_count;
       narrow_seconds += seconds_since(narrow_start);
     });
     stats_.ccd_broad = ccd_broad_->stats();
-    if (ccd_broad_->last_feature_parts() > 1) {
-      sort_hits_by_candidate(vf_answers_, vf_hits_.candidates);
-      sort_hits_by_candidate(ee_answers_, ee_hits_.candidates);
-    }
     const NarrowPhaseTimings& device = narrow_.timings();
     stats_.narrow.seconds_ccd_device = 1e-3 * (device.screen_ms + device.search_ms + device.compact_ms);
     // The device is free: the next frame's intersections, while the host works.
     if (static_seen_ && !static_ahead_.valid()) start_static_ahead(slot_t1);
-    const auto host_start = std::chrono::steady_clock::now();
-    for (const CcdHit& hit : vf_answers_) vf_hits_.results.push_back(hit.result);
-    for (const CcdHit& hit : ee_answers_) ee_hits_.results.push_back(hit.result);
-    // What the screen left undecided: the whole test, on the CPU.
-    arena_->execute([&] {
-      search_uncertain_hits(*scene_, x_t0, x_t1, settings_.ccd, vf_hits_);
-      search_uncertain_hits(*scene_, x_t0, x_t1, settings_.ccd, ee_hits_);
-    });
+    // What the screen left undecided: the whole test and certification, on
+    // the CPU. Each chunk's events are in candidate order, vertex-face before
+    // edge-edge; several chunks are put in event order.
     const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] {
-      append_collision_events(*scene_, x_t0, x_t1, vf_count, vf_hits_, settings_.certifier, settings_.thickness,
-                              stats_.narrow, events);
-      append_collision_events(*scene_, x_t0, x_t1, ee_count, ee_hits_, settings_.certifier, settings_.thickness,
-                              stats_.narrow, events);
+      settle_collision_events(*scene_, x_t0, x_t1, vf_count, ee_count, settings_.ccd, settings_.certifier,
+                              stats_.narrow, events, first);
     });
     sort_events_from(events, first);
     stats_.narrow.seconds_ccd_events = seconds_since(events_start) - stats_.narrow.seconds_certify;
     // The narrow phase's rounds ran inside the broad phase's chunks.
-    stats_.narrow.seconds_ccd = narrow_seconds + seconds_since(host_start) - stats_.narrow.seconds_certify;
+    stats_.narrow.seconds_ccd = narrow_seconds + seconds_since(events_start) - stats_.narrow.seconds_certify;
   }
 
   void intersections(const std::vector<Vec3>& x, std::vector<Event>& events) override {
@@ -291,9 +258,9 @@ class CudaBackend final : public Backend {
     stats_.narrow.predicate_exact = found.counts.predicate_exact;
     stats_.narrow.triangle_tests = found.tests;
     const auto events_start = std::chrono::steady_clock::now();
-    arena_->execute([&] { append_intersection_events(*scene_, x, found.pairs, events); });
+    events.insert(events.end(), found.events.begin(), found.events.end());
     stats_.narrow.seconds_static_events = seconds_since(events_start);
-    stats_.narrow.triangles_intersecting += found.hits.size();
+    stats_.narrow.triangles_intersecting += found.events.size();
     stats_.narrow.seconds_static = found.narrow_seconds + stats_.narrow.seconds_static_events;
   }
 
@@ -317,8 +284,7 @@ class CudaBackend final : public Backend {
   void find_static(int slot) {
     StaticFound& found = static_found_;
     const Vec3* d_x = slots_[slot].device.data();
-    found.hits.clear();
-    found.pairs.clear();
+    found.events.clear();
     found.counts = TrianglePairCounts{};
     found.tests = 0;
     found.narrow_seconds = 0;
@@ -326,11 +292,8 @@ class CudaBackend final : public Backend {
     use_budget(*static_broad_, static_narrow_, CudaNarrowPhase::kStaticBytesPerPair, *ccd_broad_, narrow_);
     static_broad_->detect_static_on_device(d_x, static_stream_.get(), [&](const DeviceCandidates& chunk) {
       const auto start = std::chrono::steady_clock::now();
-      const std::size_t before = found.hits.size();
-      static_narrow_.triangle_pairs(d_x, triangles_.data(), chunk.pairs, chunk.pair_count, found.hits, found.counts,
-                                    &found.pairs);
-      // Hits index the chunk's pairs; chunks follow one another.
-      for (std::size_t k = before; k < found.hits.size(); ++k) found.hits[k] += static_cast<std::uint32_t>(found.tests);
+      static_narrow_.triangle_pair_events(d_x, triangles_.data(), chunk.pairs, chunk.pair_count, found.events,
+                                          found.counts);
       found.tests += chunk.pair_count;
       found.narrow_seconds += seconds_since(start);
     });
@@ -448,9 +411,6 @@ class CudaBackend final : public Backend {
   CudaNarrowPhase static_narrow_;  ///< on static_stream_, beside narrow_
   FrameSlot slots_[2];
   unsigned long long use_clock_ = 0;
-  std::vector<CcdHit> vf_answers_, ee_answers_;
-  CcdHits<VertexFaceCandidate> vf_hits_;
-  CcdHits<EdgeEdgeCandidate> ee_hits_;
   StaticFound static_found_;
   bool static_seen_ = false;          ///< intersections() was called since bind()
   std::future<void> static_ahead_;    ///< find_static() running ahead, when valid

@@ -5,6 +5,7 @@
 #include <thrust/iterator/counting_iterator.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <cub/block/block_reduce.cuh>
 #include <cub/device/device_select.cuh>
 
@@ -13,6 +14,7 @@
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
+#include "libcd/pipeline/event_fields.hpp"
 
 namespace snag {
 
@@ -63,6 +65,11 @@ struct VertexFaceQuery {
     points(i, x);
     return vertex_face_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings);
   }
+  // The collision event of a hit (event_fields.hpp).
+  __device__ Event event(std::uint32_t i, const CcdResult& result) const {
+    const VertexFaceCandidate c = candidates[i];
+    return vertex_face_fields(c.vertex, c.face, x_t0[c.vertex], x_t1[c.vertex], result);
+  }
 };
 
 // An edge-edge query.
@@ -97,6 +104,12 @@ struct EdgeEdgeQuery {
     Vec3 x[8];
     points(i, x);
     return edge_edge_ccd(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings);
+  }
+  __device__ Event event(std::uint32_t i, const CcdResult& result) const {
+    Vec3 x[8];
+    points(i, x);
+    const EdgeEdgeCandidate c = candidates[i];
+    return edge_edge_fields(c.edge_a, c.edge_b, &x[0], &x[4], result);
   }
 };
 
@@ -163,6 +176,33 @@ __global__ void gather_kernel(const T* __restrict__ items, const std::uint32_t* 
                               T* __restrict__ out) {
   const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
   if (k < count) out[k] = items[subset[k]];
+}
+
+// events[k] = the collision event of candidate subset[k], whose answer is
+// results[subset[k]] (a hit), for k < count.
+template <class Query>
+__global__ void collision_event_kernel(Query query, const std::uint32_t* __restrict__ subset, std::size_t count,
+                                       const CcdResult* __restrict__ results, Event* __restrict__ events) {
+  const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  const std::uint32_t i = subset[k];
+  events[k] = query.event(i, results[i]);
+}
+
+// events[k] = the intersection event of the intersecting pair pairs[subset[k]], for k < count.
+__global__ void intersection_event_kernel(const Vec3* __restrict__ x, const Index* __restrict__ corners,
+                                          const TrianglePair* __restrict__ pairs,
+                                          const std::uint32_t* __restrict__ subset, std::size_t count,
+                                          Event* __restrict__ events) {
+  const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k >= count) return;
+  const TrianglePair pair = pairs[subset[k]];
+  Vec3 a[3], b[3];
+  for (int c = 0; c < 3; ++c) {
+    a[c] = x[corners[3 * std::size_t{pair.a} + c]];
+    b[c] = x[corners[3 * std::size_t{pair.b} + c]];
+  }
+  events[k] = intersection_fields(pair.a, pair.b, a, b);
 }
 
 // The static test: thread i tests pair i; the predicate counters are summed
@@ -248,10 +288,15 @@ std::size_t CudaNarrowPhase::select_flagged(std::size_t count) {
 }
 
 template <class T>
+T* CudaNarrowPhase::gathered_as(std::size_t count, const char* what) {
+  resize_or_throw(gathered_, count * sizeof(T), what);
+  return reinterpret_cast<T*>(gathered_.data());  // cudaMallocAsync memory: aligned for any T
+}
+
+template <class T>
 const T* CudaNarrowPhase::stage_selected(const T* items, std::size_t count) {
   if (count == 0) return nullptr;
-  resize_or_throw(gathered_, count * sizeof(T), "gathered hits");
-  T* gathered = reinterpret_cast<T*>(gathered_.data());  // cudaMallocAsync memory: aligned for any T
+  T* gathered = gathered_as<T>(count, "gathered hits");
   gather_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(items, selected_.data(), count, gathered);
   SNAG_CUDA_CHECK_LAUNCH();
   host_gathered_.resize(count * sizeof(T));
@@ -260,21 +305,35 @@ const T* CudaNarrowPhase::stage_selected(const T* items, std::size_t count) {
   return staged;
 }
 
+void CudaNarrowPhase::stage_events(std::size_t count) {
+  host_gathered_.resize(count * sizeof(Event));
+  SNAG_CUDA_CHECK(cudaMemcpyAsync(host_gathered_.data(), gathered_.data(), count * sizeof(Event),
+                                  cudaMemcpyDeviceToHost, stream_));
+}
+
+void CudaNarrowPhase::append_staged_events(std::size_t count, std::vector<Event>& events) const {
+  if (count == 0) return;
+  const Event* staged = reinterpret_cast<const Event*>(host_gathered_.data());  // cudaMallocHost: aligned
+  events.insert(events.end(), staged, staged + count);
+}
+
 template <class Query>
 void CudaNarrowPhase::run_ccd(const Query& query, std::size_t count, const CcdSettings& settings, CcdPasses passes,
-                              std::vector<CcdHit>& hits, std::vector<typename Query::Candidate>* hit_candidates) {
+                              const HitSink<typename Query::Candidate>& sink) {
   if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 candidates per call", 0);
+  if (sink.events != nullptr && passes == CcdPasses::kScreenThenSearch)
+    throw std::invalid_argument("CCD events are built on the device only after kScreenOnly or kSinglePass");
   for (std::size_t first = 0; first < count; first += chunk_size_) {
     Query chunk = query;
     chunk.candidates += first;
-    run_ccd_chunk(chunk, std::min(chunk_size_, count - first), first, settings, passes, hits, hit_candidates);
+    run_ccd_chunk(chunk, std::min(chunk_size_, count - first), first, settings, passes, sink);
   }
 }
 
 template <class Query>
 void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::size_t first,
-                                    const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits,
-                                    std::vector<typename Query::Candidate>* hit_candidates) {
+                                    const CcdSettings& settings, CcdPasses passes,
+                                    const HitSink<typename Query::Candidate>& sink) {
   const bool screen = passes != CcdPasses::kSinglePass;
   const bool search = passes == CcdPasses::kScreenThenSearch;
   DeviceMemoryTracker::set_stage("narrow phase");
@@ -314,7 +373,15 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   const std::uint32_t* indices = host_indices_.data();
   const CcdResult* results = host_results_.data();
   const typename Query::Candidate* candidates = nullptr;
-  if (survivors > 0) {
+  if (survivors > 0 && sink.events != nullptr) {
+    // Without the search, every survivor is a hit whose answer is in results_.
+    Event* events = gathered_as<Event>(survivors, "CCD events");
+    collision_event_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(query, selected_.data(), survivors,
+                                                                              results_.data(), events);
+    SNAG_CUDA_CHECK_LAUNCH();
+    searched.record(stream_);
+    stage_events(survivors);
+  } else if (survivors > 0) {
     if (search) {
       resize_or_throw(searched_results_, survivors, "CCD search results");
       resize_or_throw(searched_flags_, survivors, "CCD search flags");
@@ -332,7 +399,7 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
       selected_results_.download(host_results_.data(), survivors);
     }
     selected_.download(host_indices_.data(), survivors);
-    if (hit_candidates != nullptr) candidates = stage_selected(query.candidates, survivors);
+    if (sink.hit_candidates != nullptr) candidates = stage_selected(query.candidates, survivors);
   } else {
     searched.record(stream_);
   }
@@ -347,10 +414,14 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   } else {
     timings_.compact_ms += CudaEvent::elapsed_ms(screened, done);
   }
+  if (sink.events != nullptr) {
+    append_staged_events(survivors, *sink.events);
+    return;
+  }
   for (std::size_t k = 0; k < survivors; ++k) {
     if (results[k].answer == CcdAnswer::kNo) continue;  // the full search ruled it out
-    hits.push_back(CcdHit{static_cast<std::uint32_t>(first + indices[k]), results[k]});
-    if (hit_candidates != nullptr) hit_candidates->push_back(candidates[k]);
+    sink.hits->push_back(CcdHit{static_cast<std::uint32_t>(first + indices[k]), results[k]});
+    if (sink.hit_candidates != nullptr) sink.hit_candidates->push_back(candidates[k]);
   }
 }
 
@@ -359,54 +430,100 @@ void CudaNarrowPhase::vertex_face(const Vec3* x_t0, const Vec3* x_t1, const Tria
                                   const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits,
                                   std::vector<VertexFaceCandidate>* hit_candidates) {
   run_ccd(VertexFaceQuery{x_t0, x_t1, reinterpret_cast<const Index*>(triangles), candidates}, count, settings, passes,
-          hits, hit_candidates);
+          HitSink<VertexFaceCandidate>{&hits, hit_candidates, nullptr});
 }
 
 void CudaNarrowPhase::edge_edge(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges,
                                 const EdgeEdgeCandidate* candidates, std::size_t count, const CcdSettings& settings,
                                 CcdPasses passes, std::vector<CcdHit>& hits,
                                 std::vector<EdgeEdgeCandidate>* hit_candidates) {
-  run_ccd(EdgeEdgeQuery{x_t0, x_t1, reinterpret_cast<const Index*>(edges), candidates}, count, settings, passes, hits,
-          hit_candidates);
+  run_ccd(EdgeEdgeQuery{x_t0, x_t1, reinterpret_cast<const Index*>(edges), candidates}, count, settings, passes,
+          HitSink<EdgeEdgeCandidate>{&hits, hit_candidates, nullptr});
+}
+
+void CudaNarrowPhase::vertex_face_events(const Vec3* x_t0, const Vec3* x_t1, const Triangle* triangles,
+                                         const VertexFaceCandidate* candidates, std::size_t count,
+                                         const CcdSettings& settings, CcdPasses passes, std::vector<Event>& events) {
+  run_ccd(VertexFaceQuery{x_t0, x_t1, reinterpret_cast<const Index*>(triangles), candidates}, count, settings, passes,
+          HitSink<VertexFaceCandidate>{nullptr, nullptr, &events});
+}
+
+void CudaNarrowPhase::edge_edge_events(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges,
+                                       const EdgeEdgeCandidate* candidates, std::size_t count,
+                                       const CcdSettings& settings, CcdPasses passes, std::vector<Event>& events) {
+  run_ccd(EdgeEdgeQuery{x_t0, x_t1, reinterpret_cast<const Index*>(edges), candidates}, count, settings, passes,
+          HitSink<EdgeEdgeCandidate>{nullptr, nullptr, &events});
 }
 
 void CudaNarrowPhase::triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
                                      std::size_t count, std::vector<std::uint32_t>& hits,
                                      TrianglePairCounts& counts, std::vector<TrianglePair>* hit_pairs) {
-  if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 pairs per call", 0);
-  for (std::size_t first = 0; first < count; first += chunk_size_) {
-    triangle_pairs_chunk(x, triangles, pairs + first, std::min(chunk_size_, count - first), first, hits, counts,
-                         hit_pairs);
-  }
+  run_triangle_pairs(x, triangles, pairs, count, counts, PairSink{&hits, hit_pairs, nullptr});
 }
 
-void CudaNarrowPhase::triangle_pairs_chunk(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
-                                           std::size_t count, std::size_t first, std::vector<std::uint32_t>& hits,
-                                           TrianglePairCounts& counts, std::vector<TrianglePair>* hit_pairs) {
+std::size_t CudaNarrowPhase::triangle_pair_events(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
+                                                  std::size_t count, std::vector<Event>& events,
+                                                  TrianglePairCounts& counts) {
+  return run_triangle_pairs(x, triangles, pairs, count, counts, PairSink{nullptr, nullptr, &events});
+}
+
+std::size_t CudaNarrowPhase::run_triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
+                                                std::size_t count, TrianglePairCounts& counts, const PairSink& sink) {
+  if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 pairs per call", 0);
+  std::size_t intersecting = 0;
+  for (std::size_t first = 0; first < count; first += chunk_size_) {
+    intersecting +=
+        triangle_pairs_chunk(x, triangles, pairs + first, std::min(chunk_size_, count - first), first, counts, sink);
+  }
+  return intersecting;
+}
+
+std::size_t CudaNarrowPhase::triangle_pairs_chunk(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
+                                                  std::size_t count, std::size_t first, TrianglePairCounts& counts,
+                                                  const PairSink& sink) {
   CudaEvent start, tested;
   resize_or_throw(flags_, count, "triangle-pair flags");
   resize_or_throw(selected_, count, "triangle-pair indices");
   counters_.fill_zero();
   start.record(stream_);
-  triangle_pairs_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(
-      x, reinterpret_cast<const Index*>(triangles), pairs, count, flags_.data(), counters_.data());
+  const Index* corners = reinterpret_cast<const Index*>(triangles);
+  triangle_pairs_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(x, corners, pairs, count, flags_.data(),
+                                                                       counters_.data());
   SNAG_CUDA_CHECK_LAUNCH();
   tested.record(stream_);
   const std::size_t intersecting = select_flagged(count);
-  host_indices_.resize(intersecting);
-  selected_.download(host_indices_.data(), intersecting);
-  const TrianglePair* staged_pairs = hit_pairs != nullptr ? stage_selected(pairs, intersecting) : nullptr;
+  const TrianglePair* staged_pairs = nullptr;
+  if (sink.events != nullptr) {
+    if (intersecting > 0) {
+      Event* events = gathered_as<Event>(intersecting, "intersection events");
+      intersection_event_kernel<<<blocks_for(intersecting), kBlockSize, 0, stream_>>>(x, corners, pairs,
+                                                                                      selected_.data(), intersecting,
+                                                                                      events);
+      SNAG_CUDA_CHECK_LAUNCH();
+      stage_events(intersecting);
+    }
+  } else {
+    host_indices_.resize(intersecting);
+    selected_.download(host_indices_.data(), intersecting);
+    if (sink.hit_pairs != nullptr) staged_pairs = stage_selected(pairs, intersecting);
+  }
   unsigned long long sums[2] = {0, 0};
   counters_.download(sums, 2);
   CudaEvent done;
   done.record(stream_);
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
-  for (std::size_t k = 0; k < intersecting; ++k) hits.push_back(static_cast<std::uint32_t>(first) + host_indices_[k]);
-  if (hit_pairs != nullptr) hit_pairs->insert(hit_pairs->end(), staged_pairs, staged_pairs + intersecting);
+  if (sink.events != nullptr) {
+    append_staged_events(intersecting, *sink.events);
+  } else {
+    for (std::size_t k = 0; k < intersecting; ++k)
+      sink.hits->push_back(static_cast<std::uint32_t>(first) + host_indices_[k]);
+    if (sink.hit_pairs != nullptr) sink.hit_pairs->insert(sink.hit_pairs->end(), staged_pairs, staged_pairs + intersecting);
+  }
   counts.predicate_calls += sums[0];
   counts.predicate_exact += sums[1];
   timings_.static_ms += CudaEvent::elapsed_ms(start, tested);
   timings_.compact_ms += CudaEvent::elapsed_ms(tested, done);
+  return intersecting;
 }
 
 }  // namespace snag

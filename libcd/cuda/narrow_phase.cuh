@@ -49,6 +49,7 @@
 #include "libcd/cuda/device_buffer.cuh"
 #include "libcd/geometry/vec3.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
+#include "libcd/pipeline/event.hpp"
 #include "libcd/scene/mesh.hpp"
 
 namespace snag {
@@ -113,6 +114,20 @@ class CudaNarrowPhase {
                  std::size_t count, const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& hits,
                  std::vector<EdgeEdgeCandidate>* hit_candidates = nullptr);
 
+  /// Vertex-face CCD as vertex_face, with the hits built into collision
+  /// events on the device (event_fields.hpp, the formulas of the CPU's
+  /// event_builder.hpp: frame 0, certainty kUncertain where the screen left
+  /// the candidate undecided) and appended to `events` in candidate order:
+  /// only the events cross to the host. `passes` is kScreenOnly or
+  /// kSinglePass (std::invalid_argument otherwise). Waits for the stream.
+  /// Throws CudaError.
+  void vertex_face_events(const Vec3* x_t0, const Vec3* x_t1, const Triangle* triangles,
+                          const VertexFaceCandidate* candidates, std::size_t count, const CcdSettings& settings,
+                          CcdPasses passes, std::vector<Event>& events);
+  /// Edge-edge CCD as edge_edge, the hits built into events as vertex_face_events.
+  void edge_edge_events(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges, const EdgeEdgeCandidate* candidates,
+                        std::size_t count, const CcdSettings& settings, CcdPasses passes, std::vector<Event>& events);
+
   /// Static test of `count` triangle pairs at positions x (#V): appends the
   /// indices of the intersecting pairs, in order, to `hits` (and the pairs
   /// themselves to hit_pairs when given), and adds the predicate counts to
@@ -120,6 +135,13 @@ class CudaNarrowPhase {
   void triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs, std::size_t count,
                       std::vector<std::uint32_t>& hits, TrianglePairCounts& counts,
                       std::vector<TrianglePair>* hit_pairs = nullptr);
+
+  /// Static test as triangle_pairs, with the intersecting pairs built into
+  /// intersection events (frame 0) on the device and appended to `events` in
+  /// pair order; returns how many intersect. Waits for the stream. Throws
+  /// CudaError.
+  std::size_t triangle_pair_events(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
+                                   std::size_t count, std::vector<Event>& events, TrianglePairCounts& counts);
 
   /// Candidates (or pairs) per kernel round; a call over more runs in rounds
   /// of this many, so that the device memory of a call is bounded by the
@@ -142,23 +164,45 @@ class CudaNarrowPhase {
   void reset_timings() { timings_ = NarrowPhaseTimings{}; }
 
  private:
+  /// Where a call's hits go: hits (with hit_candidates or hit_pairs when
+  /// not null), or events built on the device when `events` is not null.
+  template <class Candidate>
+  struct HitSink {
+    std::vector<CcdHit>* hits = nullptr;
+    std::vector<Candidate>* hit_candidates = nullptr;
+    std::vector<Event>* events = nullptr;
+  };
+  struct PairSink {
+    std::vector<std::uint32_t>* hits = nullptr;
+    std::vector<TrianglePair>* hit_pairs = nullptr;
+    std::vector<Event>* events = nullptr;
+  };
   template <class Query>
   void run_ccd(const Query& query, std::size_t count, const CcdSettings& settings, CcdPasses passes,
-               std::vector<CcdHit>& hits, std::vector<typename Query::Candidate>* hit_candidates);
+               const HitSink<typename Query::Candidate>& sink);
   /// One round: candidates [first, first + count) of the call, `query` starting at `first`.
   template <class Query>
   void run_ccd_chunk(const Query& query, std::size_t count, std::size_t first, const CcdSettings& settings,
-                     CcdPasses passes, std::vector<CcdHit>& hits,
-                     std::vector<typename Query::Candidate>* hit_candidates);
-  void triangle_pairs_chunk(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs, std::size_t count,
-                            std::size_t first, std::vector<std::uint32_t>& hits, TrianglePairCounts& counts,
-                            std::vector<TrianglePair>* hit_pairs);
+                     CcdPasses passes, const HitSink<typename Query::Candidate>& sink);
+  std::size_t run_triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
+                                 std::size_t count, TrianglePairCounts& counts, const PairSink& sink);
+  std::size_t triangle_pairs_chunk(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
+                                   std::size_t count, std::size_t first, TrianglePairCounts& counts,
+                                   const PairSink& sink);
+  /// Queues the copy of `count` events built on the device in gathered_ to
+  /// pinned memory; appends them to `events` once the stream is synchronised
+  /// (append_staged_events).
+  void stage_events(std::size_t count);
+  void append_staged_events(std::size_t count, std::vector<Event>& events) const;
   std::size_t select_flagged(std::size_t count);
   /// Gathers items[selected_[k]] for k < count on the device and queues their
   /// copy to pinned host memory; the returned array is valid once the stream
   /// is synchronised, until the next call.
   template <class T>
   const T* stage_selected(const T* items, std::size_t count);
+  /// gathered_ as room for `count` items of type T.
+  template <class T>
+  T* gathered_as(std::size_t count, const char* what);
 
   cudaStream_t stream_;
   DeviceBuffer<CcdResult> results_, searched_results_;

@@ -58,8 +58,10 @@ struct NarrowPhaseStats {
   std::size_t triangle_tests = 0, triangles_intersecting = 0;
   unsigned long long predicate_calls = 0, predicate_exact = 0;  ///< orientation predicates, and exact fallbacks
   double seconds_ccd = 0, seconds_certify = 0, seconds_static = 0;
-  /// Of seconds_ccd and seconds_static: building the events on the host
-  /// (all back ends), and the device's part (CUDA events; 0 on the CPU).
+  /// Of seconds_ccd and seconds_static: the events' host part (the CPU back
+  /// end builds them; the CUDA back end settles and copies those the device
+  /// built, certification not included), and the device's part (CUDA
+  /// events; 0 on the CPU).
   double seconds_ccd_events = 0, seconds_static_events = 0;
   double seconds_ccd_device = 0, seconds_static_device = 0;
 };

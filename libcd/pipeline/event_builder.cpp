@@ -7,23 +7,11 @@
 
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
-#include "libcd/pipeline/event_position.hpp"
+#include "libcd/pipeline/event_fields.hpp"
 
 namespace snag {
 
 namespace {
-
-Event collision(ContactType type, Index a, Index b, const CcdResult& result) {
-  Event e;
-  e.kind = EventKind::kCollision;
-  e.type = type;
-  e.a = a;
-  e.b = b;
-  e.toi_lo = result.toi_lo;
-  e.toi_hi = result.toi_hi;
-  e.certainty = result.answer == CcdAnswer::kYes ? Certainty::kProven : Certainty::kUncertain;
-  return e;
-}
 
 ExactAnswer decide_exactly(const Certifier& certifier, const Scene& scene, const std::vector<Vec3>& x_t0,
                            const std::vector<Vec3>& x_t1, const VertexFaceCandidate& c, double thickness) {
@@ -43,30 +31,6 @@ Event collision_event(const Scene& scene, const std::vector<Vec3>& x_t0, const s
 Event collision_event(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                       const EdgeEdgeCandidate& c, const CcdResult& result) {
   return edge_edge_event(scene, x_t0, x_t1, c, result);
-}
-
-template <class Candidate>
-std::size_t search_uncertain(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
-                             const CcdSettings& settings, CcdHits<Candidate>& hits) {
-  std::vector<std::size_t> uncertain;
-  for (std::size_t k = 0; k < hits.results.size(); ++k) {
-    if (hits.results[k].answer == CcdAnswer::kUncertain) uncertain.push_back(k);
-  }
-  if (uncertain.empty()) return 0;
-  tbb::parallel_for(std::size_t{0}, uncertain.size(), [&](std::size_t j) {
-    const std::size_t k = uncertain[j];
-    hits.results[k] = ccd_test(scene, x_t0, x_t1, hits.candidates[k], settings);
-  });
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < hits.results.size(); ++k) {
-    if (hits.results[k].answer == CcdAnswer::kNo) continue;
-    hits.candidates[kept] = hits.candidates[k];
-    hits.results[kept] = hits.results[k];
-    ++kept;
-  }
-  hits.candidates.resize(kept);
-  hits.results.resize(kept);
-  return uncertain.size();
 }
 
 template <class Candidate>
@@ -109,6 +73,18 @@ void append_collisions(const Scene& scene, const std::vector<Vec3>& x_t0, const 
   });
 }
 
+// The candidate a collision event was built from.
+VertexFaceCandidate vertex_face_of(const Event& e) { return VertexFaceCandidate{e.a, e.b}; }
+EdgeEdgeCandidate edge_edge_of(const Event& e) { return EdgeEdgeCandidate{e.a, e.b}; }
+
+// The whole test, then the certifier, of the query behind an uncertain
+// collision event.
+CcdResult settle(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, const Event& e,
+                 const CcdSettings& settings) {
+  return e.type == ContactType::kVertexFace ? ccd_test(scene, x_t0, x_t1, vertex_face_of(e), settings)
+                                            : ccd_test(scene, x_t0, x_t1, edge_edge_of(e), settings);
+}
+
 }  // namespace
 
 CcdResult ccd_test(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
@@ -121,16 +97,6 @@ CcdResult ccd_test(const Scene& scene, const std::vector<Vec3>& x_t0, const std:
                    const EdgeEdgeCandidate& candidate, const CcdSettings& settings) {
   const std::array<Vec3, 8> p = edge_edge_points(scene, x_t0, x_t1, candidate);
   return edge_edge_ccd(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings);
-}
-
-std::size_t search_uncertain_hits(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
-                                  const CcdSettings& settings, CcdHits<VertexFaceCandidate>& hits) {
-  return search_uncertain(scene, x_t0, x_t1, settings, hits);
-}
-
-std::size_t search_uncertain_hits(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
-                                  const CcdSettings& settings, CcdHits<EdgeEdgeCandidate>& hits) {
-  return search_uncertain(scene, x_t0, x_t1, settings, hits);
 }
 
 void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
@@ -160,20 +126,13 @@ std::array<Vec3, 8> edge_edge_points(const Scene& scene, const std::vector<Vec3>
 
 Event vertex_face_event(const Scene&, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                         const VertexFaceCandidate& c, const CcdResult& result) {
-  Event e = collision(ContactType::kVertexFace, c.vertex, c.face, result);
-  e.position = lerp(x_t0[c.vertex], x_t1[c.vertex], 0.5 * (e.toi_lo + e.toi_hi));
-  return e;
+  return vertex_face_fields(c.vertex, c.face, x_t0[c.vertex], x_t1[c.vertex], result);
 }
 
 Event edge_edge_event(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                       const EdgeEdgeCandidate& c, const CcdResult& result) {
-  Event e = collision(ContactType::kEdgeEdge, c.edge_a, c.edge_b, result);
-  const double t = 0.5 * (e.toi_lo + e.toi_hi);
-  const Edge& a = scene.edges()[c.edge_a];
-  const Edge& b = scene.edges()[c.edge_b];
-  e.position = segments_meeting_point(lerp(x_t0[a[0]], x_t1[a[0]], t), lerp(x_t0[a[1]], x_t1[a[1]], t),
-                                      lerp(x_t0[b[0]], x_t1[b[0]], t), lerp(x_t0[b[1]], x_t1[b[1]], t));
-  return e;
+  const std::array<Vec3, 8> p = edge_edge_points(scene, x_t0, x_t1, c);
+  return edge_edge_fields(c.edge_a, c.edge_b, &p[0], &p[4], result);
 }
 
 Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const TrianglePair& pair) {
@@ -181,13 +140,7 @@ Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const T
   const Triangle& tb = scene.triangles()[pair.b];
   const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
   const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
-  Event e;
-  e.kind = EventKind::kIntersection;
-  e.type = ContactType::kTriangleTriangle;
-  e.a = pair.a;
-  e.b = pair.b;
-  e.position = triangles_meeting_point(a, b);
-  return e;
+  return intersection_fields(pair.a, pair.b, a, b);
 }
 
 void sort_events_from(std::vector<Event>& events, std::size_t first) {
@@ -201,6 +154,73 @@ void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x,
   events.resize(first + intersecting.size());
   tbb::parallel_for(std::size_t{0}, intersecting.size(),
                     [&](std::size_t k) { events[first + k] = intersection_event(scene, x, intersecting[k]); });
+}
+
+std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                    std::size_t vf_tests, std::size_t ee_tests, const CcdSettings& settings,
+                                    const Certifier* certifier, NarrowPhaseStats& stats, std::vector<Event>& events,
+                                    std::size_t first) {
+  std::vector<std::size_t> uncertain;
+  std::size_t vf_hits = 0;
+  for (std::size_t k = first; k < events.size(); ++k) {
+    if (events[k].certainty == Certainty::kUncertain) uncertain.push_back(k);
+    vf_hits += events[k].type == ContactType::kVertexFace;
+  }
+  std::size_t hits[2] = {vf_hits, events.size() - first - vf_hits};  // vertex-face, edge-edge
+  std::vector<CcdResult> results(uncertain.size());
+  tbb::parallel_for(std::size_t{0}, uncertain.size(),
+                    [&](std::size_t j) { results[j] = settle(scene, x_t0, x_t1, events[uncertain[j]], settings); });
+  // As append_collision_events counts after search_uncertain: hits ruled
+  // out by the search are "no", those it leaves uncertain "uncertain".
+  std::size_t still[2] = {0, 0};
+  std::vector<std::size_t> certify;
+  for (std::size_t j = 0; j < uncertain.size(); ++j) {
+    const int edge_edge = events[uncertain[j]].type == ContactType::kEdgeEdge;
+    if (results[j].answer == CcdAnswer::kNo) --hits[edge_edge];
+    if (results[j].answer == CcdAnswer::kUncertain) {
+      ++still[edge_edge];
+      certify.push_back(j);
+    }
+  }
+  stats.vf_tests += vf_tests;
+  stats.ee_tests += ee_tests;
+  stats.vf_yes += hits[0] - still[0];
+  stats.ee_yes += hits[1] - still[1];
+  stats.vf_no += vf_tests - hits[0];
+  stats.ee_no += ee_tests - hits[1];
+  stats.vf_uncertain += still[0];
+  stats.ee_uncertain += still[1];
+  if (certifier != nullptr && !certify.empty()) {
+    const auto start = std::chrono::steady_clock::now();
+    tbb::parallel_for(std::size_t{0}, certify.size(), [&](std::size_t c) {
+      const std::size_t j = certify[c];
+      const Event& e = events[uncertain[j]];
+      const ExactAnswer exact =
+          e.type == ContactType::kVertexFace
+              ? decide_exactly(*certifier, scene, x_t0, x_t1, vertex_face_of(e), settings.thickness)
+              : decide_exactly(*certifier, scene, x_t0, x_t1, edge_edge_of(e), settings.thickness);
+      results[j] = CcdResult{exact.collides ? CcdAnswer::kYes : CcdAnswer::kNo, exact.toi_lo, exact.toi_hi};
+    });
+    stats.seconds_certify += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats.certified += certify.size();
+    for (std::size_t j : certify) stats.certified_true += results[j].answer == CcdAnswer::kYes;
+  }
+  if (uncertain.empty()) return 0;
+  // The settled events are built again from their new answers; those that
+  // do not collide are dropped, the order kept.
+  tbb::parallel_for(std::size_t{0}, uncertain.size(), [&](std::size_t j) {
+    Event& e = events[uncertain[j]];
+    if (results[j].answer == CcdAnswer::kNo) return;
+    e = e.type == ContactType::kVertexFace ? vertex_face_event(scene, x_t0, x_t1, vertex_face_of(e), results[j])
+                                           : edge_edge_event(scene, x_t0, x_t1, edge_edge_of(e), results[j]);
+  });
+  std::size_t kept = uncertain.front(), j = 0;
+  for (std::size_t k = uncertain.front(); k < events.size(); ++k) {
+    if (j < uncertain.size() && uncertain[j] == k && results[j++].answer == CcdAnswer::kNo) continue;
+    events[kept++] = events[k];
+  }
+  events.resize(kept);
+  return uncertain.size();
 }
 
 }  // namespace snag

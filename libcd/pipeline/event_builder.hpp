@@ -50,15 +50,6 @@ CcdResult ccd_test(const Scene& scene, const std::vector<Vec3>& x_t0, const std:
 CcdResult ccd_test(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                    const EdgeEdgeCandidate& candidate, const CcdSettings& settings);
 
-/// For hits from a screen that left some candidates undecided (answer
-/// kUncertain, see CcdPasses::kScreenOnly): runs ccd_test on those, in
-/// parallel, keeps its answers, and drops the hits it rules out (order kept).
-/// Returns how many were searched.
-std::size_t search_uncertain_hits(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
-                                  const CcdSettings& settings, CcdHits<VertexFaceCandidate>& hits);
-std::size_t search_uncertain_hits(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
-                                  const CcdSettings& settings, CcdHits<EdgeEdgeCandidate>& hits);
-
 /// What both back ends do with the filter's answers to `tests` CCD queries of
 /// one kind, given its hits: adds the yes/no/uncertain counts to `stats`
 /// (vf_* or ee_*), certifies the uncertain hits with `certifier` when it is
@@ -71,6 +62,21 @@ void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, 
 void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                              std::size_t tests, CcdHits<EdgeEdgeCandidate>& hits, const Certifier* certifier,
                              double thickness, NarrowPhaseStats& stats, std::vector<Event>& events);
+
+/// For collision events built on the device from a screen's hits
+/// (CudaNarrowPhase::vertex_face_events, edge_edge_events): events[first,
+/// end) are the hits of vf_tests vertex-face and ee_tests edge-edge queries,
+/// with certainty kUncertain where the screen left the query undecided. Those
+/// get the whole test (ccd_test with `settings`), then `certifier` (when not
+/// null, at settings.thickness) for what is still uncertain; their events are
+/// built again from the new answers and those that do not collide are
+/// dropped, the order kept. Adds to `stats` what append_collision_events
+/// adds after search by ccd_test, so that both give the same counts and the
+/// same events. Returns how many were searched.
+std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                                    std::size_t vf_tests, std::size_t ee_tests, const CcdSettings& settings,
+                                    const Certifier* certifier, NarrowPhaseStats& stats, std::vector<Event>& events,
+                                    std::size_t first);
 
 /// Sorts events[first, end) by event_order. The collisions of a step usually
 /// arrive in that order already (candidates are sorted by the ids events are

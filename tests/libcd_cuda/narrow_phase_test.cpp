@@ -5,9 +5,12 @@
 // (screen then search, single pass): no false negatives, and each hit and its
 // time of impact bit-identical to vertex_face_ccd / edge_edge_ccd on the CPU;
 // and random triangle pairs against triangles_intersect, predicate counts included.
+// Events built on the device are bit-identical to those the host builds of
+// the same hits with the same formulas (event_fields.hpp).
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <stdexcept>
 #include <random>
 #include <vector>
 
@@ -18,6 +21,7 @@
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
+#include "libcd/pipeline/event_fields.hpp"
 
 namespace snag {
 namespace {
@@ -210,6 +214,69 @@ TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithThickness) {
   expect_same_as_cpu(batch.ee_queries, ee_hits, settings, "thickness 1e-3");
 }
 
+/// Every field of two events, the doubles compared bit for bit.
+void expect_same_event(const Event& gpu, const Event& cpu, std::size_t k) {
+  EXPECT_EQ(gpu.kind, cpu.kind) << "event " << k;
+  EXPECT_EQ(gpu.type, cpu.type) << "event " << k;
+  EXPECT_EQ(gpu.frame, cpu.frame) << "event " << k;
+  EXPECT_EQ(gpu.a, cpu.a) << "event " << k;
+  EXPECT_EQ(gpu.b, cpu.b) << "event " << k;
+  EXPECT_EQ(gpu.certainty, cpu.certainty) << "event " << k;
+  EXPECT_TRUE(same_bits(gpu.toi_lo, cpu.toi_lo) && same_bits(gpu.toi_hi, cpu.toi_hi)) << "event " << k;
+  EXPECT_TRUE(same_bits(gpu.position.x, cpu.position.x) && same_bits(gpu.position.y, cpu.position.y) &&
+              same_bits(gpu.position.z, cpu.position.z))
+      << "event " << k << ": gpu (" << gpu.position.x << ", " << gpu.position.y << ", " << gpu.position.z
+      << ") cpu (" << cpu.position.x << ", " << cpu.position.y << ", " << cpu.position.z << ")";
+}
+
+TEST_F(NarrowPhaseCcdQueries, EventsBuiltOnTheDeviceAreTheHostsOfTheSameHits) {
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  const QueryBatch batch = make_batch(queries);
+  const DeviceBatch device(batch);
+  CudaNarrowPhase narrow(nullptr);
+  narrow.set_chunk_size(97);  // many rounds, the last one partial
+  const CcdSettings settings;
+  for (const CcdPasses passes : {CcdPasses::kScreenOnly, CcdPasses::kSinglePass}) {
+    std::vector<CcdHit> vf_hits, ee_hits;
+    std::vector<Event> events;
+    narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
+                       batch.vf.size(), settings, passes, vf_hits);
+    narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
+                     settings, passes, ee_hits);
+    narrow.vertex_face_events(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
+                              batch.vf.size(), settings, passes, events);
+    narrow.edge_edge_events(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(),
+                            batch.ee.size(), settings, passes, events);
+    ASSERT_GT(vf_hits.size(), 0u);
+    ASSERT_GT(ee_hits.size(), 0u);
+    ASSERT_EQ(events.size(), vf_hits.size() + ee_hits.size());
+    std::size_t uncertain = 0;
+    for (std::size_t k = 0; k < vf_hits.size(); ++k) {
+      const VertexFaceCandidate c = batch.vf[vf_hits[k].candidate];
+      const Event cpu = vertex_face_fields(c.vertex, c.face, batch.x_t0[c.vertex], batch.x_t1[c.vertex],
+                                           vf_hits[k].result);
+      expect_same_event(events[k], cpu, k);
+      uncertain += cpu.certainty == Certainty::kUncertain;
+    }
+    for (std::size_t k = 0; k < ee_hits.size(); ++k) {
+      const EdgeEdgeCandidate c = batch.ee[ee_hits[k].candidate];
+      const Edge& a = batch.edges[c.edge_a];
+      const Edge& b = batch.edges[c.edge_b];
+      const Vec3 ends_t0[4] = {batch.x_t0[a[0]], batch.x_t0[a[1]], batch.x_t0[b[0]], batch.x_t0[b[1]]};
+      const Vec3 ends_t1[4] = {batch.x_t1[a[0]], batch.x_t1[a[1]], batch.x_t1[b[0]], batch.x_t1[b[1]]};
+      const Event cpu = edge_edge_fields(c.edge_a, c.edge_b, ends_t0, ends_t1, ee_hits[k].result);
+      expect_same_event(events[vf_hits.size() + k], cpu, vf_hits.size() + k);
+      uncertain += cpu.certainty == Certainty::kUncertain;
+    }
+    if (passes == CcdPasses::kScreenOnly) EXPECT_GT(uncertain, 0u) << "the screen leaves the hard queries undecided";
+  }
+  std::vector<Event> events;
+  EXPECT_THROW(narrow.vertex_face_events(device.x_t0.data(), device.x_t1.data(), device.triangles.data(),
+                                         device.vf.data(), batch.vf.size(), settings, CcdPasses::kScreenThenSearch,
+                                         events),
+               std::invalid_argument);
+}
+
 class NarrowPhaseTrianglePairs : public test::GpuTest {};
 
 TEST_F(NarrowPhaseTrianglePairs, MatchesCpuOnRandomPairsWithSharedVertices) {
@@ -266,6 +333,23 @@ TEST_F(NarrowPhaseTrianglePairs, MatchesCpuOnRandomPairsWithSharedVertices) {
   EXPECT_EQ(round_counts.predicate_calls, cpu_counters.calls);
   ASSERT_EQ(round_pairs.size(), cpu_hits.size());
   for (std::size_t k = 0; k < cpu_hits.size(); ++k) EXPECT_TRUE(round_pairs[k] == pairs[cpu_hits[k]]);
+
+  // Built into intersection events on the device, in rounds of 101 pairs.
+  std::vector<Event> events;
+  TrianglePairCounts event_counts;
+  EXPECT_EQ(narrow.triangle_pair_events(d_x.data(), d_triangles.data(), d_pairs.data(), pairs.size(), events,
+                                        event_counts),
+            cpu_hits.size());
+  EXPECT_EQ(event_counts.predicate_exact, cpu_counters.exact);
+  ASSERT_EQ(events.size(), cpu_hits.size());
+  for (std::size_t k = 0; k < cpu_hits.size(); ++k) {
+    const TrianglePair pair = pairs[cpu_hits[k]];
+    const Triangle& ta = triangles[pair.a];
+    const Triangle& tb = triangles[pair.b];
+    const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
+    const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
+    expect_same_event(events[k], intersection_fields(pair.a, pair.b, a, b), k);
+  }
 }
 
 TEST_F(NarrowPhaseTrianglePairs, EmptyInputGivesNoHits) {
@@ -275,6 +359,10 @@ TEST_F(NarrowPhaseTrianglePairs, EmptyInputGivesNoHits) {
   narrow.triangle_pairs(nullptr, nullptr, nullptr, 0, hits, counts);
   std::vector<CcdHit> ccd_hits;
   narrow.vertex_face(nullptr, nullptr, nullptr, nullptr, 0, CcdSettings{}, CcdPasses::kScreenThenSearch, ccd_hits);
+  std::vector<Event> events;
+  narrow.vertex_face_events(nullptr, nullptr, nullptr, nullptr, 0, CcdSettings{}, CcdPasses::kScreenOnly, events);
+  EXPECT_EQ(narrow.triangle_pair_events(nullptr, nullptr, nullptr, 0, events, counts), 0u);
+  EXPECT_TRUE(events.empty());
   EXPECT_TRUE(hits.empty());
   EXPECT_TRUE(ccd_hits.empty());
   EXPECT_EQ(counts.predicate_calls, 0u);

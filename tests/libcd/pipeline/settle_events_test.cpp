@@ -1,0 +1,196 @@
+// settle_collision_events (event_builder.hpp), the host's part of collision
+// events built on the device: against append_collision_events over the whole
+// test's answers, the path of the CPU back end. The device's screen is
+// modelled by its contract: what it decides equals the whole test, and any
+// candidate may be left undecided (an event with certainty kUncertain and a
+// meaningless toi), whatever the whole test then answers.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "libcd/pipeline/backend.hpp"
+#include "libcd/pipeline/event_builder.hpp"
+#include "tests/common/grid_object.hpp"
+
+namespace snag {
+namespace {
+
+/// A cloth grid at rest and a body grid that sinks through it, tilted, so
+/// that the step has vertex-face and edge-edge collisions.
+struct Step {
+  Scene scene{{test::grid_object("cloth", 6), test::grid_object("body", 5)}};
+  std::vector<Vec3> x_t0, x_t1;
+  Step() {
+    for (int i = 0; i <= 5; ++i) {
+      for (int j = 0; j <= 5; ++j) {
+        const Vec3 p{i / 5.0, j / 5.0, 0.001 * std::sin(3.0 * i + j)};
+        x_t0.push_back(p);
+        x_t1.push_back(p);
+      }
+    }
+    for (int i = 0; i <= 4; ++i) {
+      for (int j = 0; j <= 4; ++j) {
+        const double x = 0.05 + 0.9 * i / 4.0, y = 0.05 + 0.9 * j / 4.0;
+        x_t0.push_back({x, y, 0.2});
+        x_t1.push_back({x, y, -0.05 + 0.1 * x * y});
+      }
+    }
+  }
+};
+
+/// Every vertex-face and edge-edge pair that shares no vertex.
+struct AllCandidates {
+  std::vector<VertexFaceCandidate> vf;
+  std::vector<EdgeEdgeCandidate> ee;
+  explicit AllCandidates(const Scene& scene) {
+    for (Index v = 0; v < scene.vertex_count(); ++v) {
+      for (Index f = 0; f < scene.triangles().size(); ++f) {
+        const Triangle& t = scene.triangles()[f];
+        if (t[0] != v && t[1] != v && t[2] != v) vf.push_back({v, f});
+      }
+    }
+    for (Index a = 0; a < scene.edges().size(); ++a) {
+      for (Index b = a + 1; b < scene.edges().size(); ++b) {
+        const Edge& p = scene.edges()[a];
+        const Edge& q = scene.edges()[b];
+        if (p[0] != q[0] && p[0] != q[1] && p[1] != q[0] && p[1] != q[1]) ee.push_back({a, b});
+      }
+    }
+  }
+};
+
+/// The CPU back end's path: the whole test on every candidate, then
+/// append_collision_events.
+template <class Candidate>
+void whole_test_events(const Step& step, const std::vector<Candidate>& candidates, const CcdSettings& settings,
+                       const Certifier* certifier, NarrowPhaseStats& stats, std::vector<Event>& events) {
+  CcdHits<Candidate> hits;
+  for (const Candidate& c : candidates) {
+    const CcdResult result = ccd_test(step.scene, step.x_t0, step.x_t1, c, settings);
+    if (result.answer == CcdAnswer::kNo) continue;
+    hits.candidates.push_back(c);
+    hits.results.push_back(result);
+  }
+  append_collision_events(step.scene, step.x_t0, step.x_t1, candidates.size(), hits, certifier, settings.thickness,
+                          stats, events);
+}
+
+/// What a screen may give for candidates [begin, end): the whole test's
+/// event where it decides, an undecided event (toi [0, 1], kUncertain) for
+/// one hit in two, one miss in three and everything the whole test leaves
+/// uncertain.
+Event screen_event(const Step& step, const VertexFaceCandidate& c, const CcdResult& result) {
+  return vertex_face_event(step.scene, step.x_t0, step.x_t1, c, result);
+}
+Event screen_event(const Step& step, const EdgeEdgeCandidate& c, const CcdResult& result) {
+  return edge_edge_event(step.scene, step.x_t0, step.x_t1, c, result);
+}
+
+template <class Candidate>
+void screen_events(const Step& step, const std::vector<Candidate>& candidates, std::size_t begin, std::size_t end,
+                   const CcdSettings& settings, std::vector<Event>& events) {
+  const CcdResult undecided{CcdAnswer::kUncertain, 0.0, 1.0};
+  for (std::size_t k = begin; k < end; ++k) {
+    const CcdResult whole = ccd_test(step.scene, step.x_t0, step.x_t1, candidates[k], settings);
+    const bool leave = whole.answer == CcdAnswer::kUncertain ||
+                       (whole.answer == CcdAnswer::kYes ? k % 2 == 0 : k % 3 == 0);
+    if (leave) {
+      events.push_back(screen_event(step, candidates[k], undecided));
+    } else if (whole.answer == CcdAnswer::kYes) {
+      events.push_back(screen_event(step, candidates[k], whole));
+    }
+  }
+}
+
+/// A certifier that answers "collides, toi in [0.25, 0.5]".
+class FixedCertifier final : public Certifier {
+ public:
+  ExactAnswer vertex_face(const std::array<Vec3, 8>&, double) const override { return {true, 0.25, 0.5}; }
+  ExactAnswer edge_edge(const std::array<Vec3, 8>&, double) const override { return {true, 0.25, 0.5}; }
+};
+
+void expect_same_events(const std::vector<Event>& got, const std::vector<Event>& want) {
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const Event &g = got[i], &w = want[i];
+    EXPECT_TRUE(g.kind == w.kind && g.type == w.type && g.frame == w.frame && g.a == w.a && g.b == w.b)
+        << "event " << i << ": " << g.a << "," << g.b << " vs " << w.a << "," << w.b;
+    EXPECT_EQ(g.toi_lo, w.toi_lo) << "event " << i;
+    EXPECT_EQ(g.toi_hi, w.toi_hi) << "event " << i;
+    EXPECT_TRUE(g.position == w.position) << "event " << i;
+    EXPECT_EQ(g.certainty, w.certainty) << "event " << i;
+  }
+}
+
+void expect_same_counts(const NarrowPhaseStats& got, const NarrowPhaseStats& want) {
+  EXPECT_EQ(got.vf_tests, want.vf_tests);
+  EXPECT_EQ(got.vf_yes, want.vf_yes);
+  EXPECT_EQ(got.vf_no, want.vf_no);
+  EXPECT_EQ(got.vf_uncertain, want.vf_uncertain);
+  EXPECT_EQ(got.ee_tests, want.ee_tests);
+  EXPECT_EQ(got.ee_yes, want.ee_yes);
+  EXPECT_EQ(got.ee_no, want.ee_no);
+  EXPECT_EQ(got.ee_uncertain, want.ee_uncertain);
+  EXPECT_EQ(got.certified, want.certified);
+  EXPECT_EQ(got.certified_true, want.certified_true);
+}
+
+TEST(SettleCollisionEvents, GivesTheEventsAndCountsOfTheWholeTestWithAndWithoutACertifier) {
+  const Step step;
+  const AllCandidates candidates(step.scene);
+  // Fewer (t, u, v) boxes than the default, so that the whole test leaves
+  // some queries uncertain for the certifier.
+  CcdSettings few_boxes;
+  few_boxes.max_iterations = 8;
+  const FixedCertifier certifier;
+  for (const CcdSettings& settings : {CcdSettings{}, few_boxes}) {
+    for (const Certifier* certify : {static_cast<const Certifier*>(nullptr), static_cast<const Certifier*>(&certifier)}) {
+      NarrowPhaseStats want_stats;
+      std::vector<Event> want;
+      whole_test_events(step, candidates.vf, settings, certify, want_stats, want);
+      whole_test_events(step, candidates.ee, settings, certify, want_stats, want);
+      ASSERT_GT(want_stats.vf_yes, 0u);
+      ASSERT_GT(want_stats.ee_yes, 0u);
+
+      // As the device gives them: after an event of an earlier call, in two
+      // chunks, each vertex-face then edge-edge.
+      std::vector<Event> events(1);
+      events[0].a = 7;
+      const std::size_t vf_half = candidates.vf.size() / 2, ee_half = candidates.ee.size() / 2;
+      screen_events(step, candidates.vf, 0, vf_half, settings, events);
+      screen_events(step, candidates.ee, 0, ee_half, settings, events);
+      screen_events(step, candidates.vf, vf_half, candidates.vf.size(), settings, events);
+      screen_events(step, candidates.ee, ee_half, candidates.ee.size(), settings, events);
+      const std::size_t undecided = static_cast<std::size_t>(std::count_if(
+          events.begin() + 1, events.end(), [](const Event& e) { return e.certainty == Certainty::kUncertain; }));
+      NarrowPhaseStats stats;
+      EXPECT_EQ(settle_collision_events(step.scene, step.x_t0, step.x_t1, candidates.vf.size(), candidates.ee.size(),
+                                        settings, certify, stats, events, 1),
+                undecided);
+      EXPECT_EQ(events[0].a, 7u) << "events before `first` are left alone";
+      events.erase(events.begin());
+      sort_events_from(events, 0);
+      expect_same_events(events, want);
+      expect_same_counts(stats, want_stats);
+      if (settings.max_iterations == few_boxes.max_iterations) {
+        EXPECT_GT(want_stats.vf_uncertain + want_stats.ee_uncertain, 0u) << "the certifier must be asked";
+      }
+    }
+  }
+}
+
+TEST(SettleCollisionEvents, LeavesDecidedEventsAsTheyAre) {
+  const Step step;
+  std::vector<Event> events;
+  NarrowPhaseStats stats;
+  EXPECT_EQ(settle_collision_events(step.scene, step.x_t0, step.x_t1, 10, 5, CcdSettings{}, nullptr, stats, events, 0),
+            0u);
+  EXPECT_TRUE(events.empty());
+  EXPECT_EQ(stats.vf_no, 10u);
+  EXPECT_EQ(stats.ee_no, 5u);
+}
+
+}  // namespace
+}  // namespace snag
