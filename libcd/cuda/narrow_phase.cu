@@ -29,6 +29,13 @@ unsigned int blocks_for(std::size_t count) {
   return static_cast<unsigned int>((count + kBlockSize - 1) / kBlockSize);
 }
 
+// Device bytes per candidate (pair) of a round that its hits' events may
+// take: those of the compacted result and the gathered candidate (pair) that
+// kCcdBytesPerCandidate (kStaticBytesPerPair) counts and the events path does
+// not use.
+constexpr std::size_t kCcdEventBytesPerCandidate = sizeof(CcdResult) + sizeof(VertexFaceCandidate);
+constexpr std::size_t kStaticEventBytesPerPair = sizeof(TrianglePair);
+
 // What the screen pass leaves for the search pass.
 constexpr unsigned char kScreenedNo = 0, kScreenedHit = 1, kUndecided = 2;
 
@@ -305,13 +312,24 @@ const T* CudaNarrowPhase::stage_selected(const T* items, std::size_t count) {
   return staged;
 }
 
-void CudaNarrowPhase::stage_events(std::size_t count) {
-  host_gathered_.resize(count * sizeof(Event));
-  SNAG_CUDA_CHECK(cudaMemcpyAsync(host_gathered_.data(), gathered_.data(), count * sizeof(Event),
-                                  cudaMemcpyDeviceToHost, stream_));
+template <class Launch>
+void CudaNarrowPhase::stage_events(std::size_t hits, std::size_t slice, Launch launch) {
+  host_gathered_.resize(hits * sizeof(Event));
+  Event* host = reinterpret_cast<Event*>(host_gathered_.data());  // cudaMallocHost memory: aligned for any T
+  slice = std::max<std::size_t>(1, std::min(slice, hits));
+  Event* device = gathered_as<Event>(slice, "events");
+  // In stream order, a slice's kernel starts after the previous slice's copy.
+  for (std::size_t first = 0; first < hits; first += slice) {
+    const std::size_t n = std::min(slice, hits - first);
+    launch(first, n, device);
+    SNAG_CUDA_CHECK(cudaMemcpyAsync(host + first, device, n * sizeof(Event), cudaMemcpyDeviceToHost, stream_));
+  }
 }
 
-void CudaNarrowPhase::append_staged_events(std::size_t count, std::vector<Event>& events) const {
+void CudaNarrowPhase::append_staged_events(std::size_t count, std::vector<Event>& events) {
+  // The device copy is given back: a large scene's events (72 bytes each)
+  // would otherwise stay counted against the budget the other detection gets.
+  gathered_.release();
   if (count == 0) return;
   const Event* staged = reinterpret_cast<const Event*>(host_gathered_.data());  // cudaMallocHost: aligned
   events.insert(events.end(), staged, staged + count);
@@ -375,12 +393,13 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   const typename Query::Candidate* candidates = nullptr;
   if (survivors > 0 && sink.events != nullptr) {
     // Without the search, every survivor is a hit whose answer is in results_.
-    Event* events = gathered_as<Event>(survivors, "CCD events");
-    collision_event_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(query, selected_.data(), survivors,
-                                                                              results_.data(), events);
-    SNAG_CUDA_CHECK_LAUNCH();
+    stage_events(survivors, count * kCcdEventBytesPerCandidate / sizeof(Event),
+                 [&](std::size_t hit, std::size_t n, Event* events) {
+                   collision_event_kernel<<<blocks_for(n), kBlockSize, 0, stream_>>>(
+                       query, selected_.data() + hit, n, results_.data(), events);
+                   SNAG_CUDA_CHECK_LAUNCH();
+                 });
     searched.record(stream_);
-    stage_events(survivors);
   } else if (survivors > 0) {
     if (search) {
       resize_or_throw(searched_results_, survivors, "CCD search results");
@@ -495,12 +514,12 @@ std::size_t CudaNarrowPhase::triangle_pairs_chunk(const Vec3* x, const Triangle*
   const TrianglePair* staged_pairs = nullptr;
   if (sink.events != nullptr) {
     if (intersecting > 0) {
-      Event* events = gathered_as<Event>(intersecting, "intersection events");
-      intersection_event_kernel<<<blocks_for(intersecting), kBlockSize, 0, stream_>>>(x, corners, pairs,
-                                                                                      selected_.data(), intersecting,
-                                                                                      events);
-      SNAG_CUDA_CHECK_LAUNCH();
-      stage_events(intersecting);
+      stage_events(intersecting, count * kStaticEventBytesPerPair / sizeof(Event),
+                   [&](std::size_t hit, std::size_t n, Event* events) {
+                     intersection_event_kernel<<<blocks_for(n), kBlockSize, 0, stream_>>>(
+                         x, corners, pairs, selected_.data() + hit, n, events);
+                     SNAG_CUDA_CHECK_LAUNCH();
+                   });
     }
   } else {
     host_indices_.resize(intersecting);

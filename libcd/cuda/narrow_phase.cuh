@@ -150,7 +150,9 @@ class CudaNarrowPhase {
   static constexpr std::size_t kDefaultChunkSize = std::size_t{1} << 24;
   /// Device bytes a round holds per CCD candidate (screen only: result,
   /// flag, index, compacted result, gathered candidate) and per static pair
-  /// (flag, index, gathered pair), scratch included.
+  /// (flag, index, gathered pair), scratch included. Events built on the
+  /// device take the room of the compacted result and gathered candidate (or
+  /// pair) instead: they are built in slices that fit it.
   static constexpr std::size_t kCcdBytesPerCandidate = 64;
   static constexpr std::size_t kStaticBytesPerPair = 16;
 
@@ -189,11 +191,14 @@ class CudaNarrowPhase {
   std::size_t triangle_pairs_chunk(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
                                    std::size_t count, std::size_t first, TrianglePairCounts& counts,
                                    const PairSink& sink);
-  /// Queues the copy of `count` events built on the device in gathered_ to
-  /// pinned memory; appends them to `events` once the stream is synchronised
-  /// (append_staged_events).
-  void stage_events(std::size_t count);
-  void append_staged_events(std::size_t count, std::vector<Event>& events) const;
+  /// Builds the events of `hits` hits on the device in slices of at most
+  /// `slice` (launch(first, n, out) writes those of hits [first, first + n)
+  /// to out) in gathered_, and queues their copies to pinned memory; once
+  /// the stream is synchronised, append_staged_events appends them to
+  /// `events` and gives gathered_ back.
+  template <class Launch>
+  void stage_events(std::size_t hits, std::size_t slice, Launch launch);
+  void append_staged_events(std::size_t count, std::vector<Event>& events);
   std::size_t select_flagged(std::size_t count);
   /// Gathers items[selected_[k]] for k < count on the device and queues their
   /// copy to pinned host memory; the returned array is valid once the stream

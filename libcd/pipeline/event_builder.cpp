@@ -214,8 +214,11 @@ std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>&
     e = e.type == ContactType::kVertexFace ? vertex_face_event(scene, x_t0, x_t1, vertex_face_of(e), results[j])
                                            : edge_edge_event(scene, x_t0, x_t1, edge_edge_of(e), results[j]);
   });
-  std::size_t kept = uncertain.front(), j = 0;
-  for (std::size_t k = uncertain.front(); k < events.size(); ++k) {
+  std::size_t j = 0;
+  while (j < uncertain.size() && results[j].answer != CcdAnswer::kNo) ++j;
+  if (j == uncertain.size()) return uncertain.size();
+  std::size_t kept = uncertain[j];  // the first dropped: the events after it move down
+  for (std::size_t k = uncertain[j]; k < events.size(); ++k) {
     if (j < uncertain.size() && uncertain[j] == k && results[j++].answer == CcdAnswer::kNo) continue;
     events[kept++] = events[k];
   }

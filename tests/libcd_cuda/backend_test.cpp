@@ -14,7 +14,6 @@
 #include <string>
 #include <vector>
 
-#include "event_compare.hpp"
 #include "gpu_test.hpp"
 #include "io/open_cache.hpp"
 #include "libcd/cpu/cpu_backend.hpp"
@@ -22,6 +21,7 @@
 #include "libcd/pipeline/scan.hpp"
 #include "ply_mesh.hpp"
 #include "snag/config.hpp"
+#include "tests/common/event_compare.hpp"
 #if SNAG_HAVE_CGAL
 #include "validate/exact_certifier.hpp"
 #endif

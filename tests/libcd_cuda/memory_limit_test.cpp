@@ -15,7 +15,6 @@
 #include <utility>
 #include <vector>
 
-#include "event_compare.hpp"
 #include "gpu_test.hpp"
 #include "libcd/core/error.hpp"
 #include "libcd/cpu/cpu_backend.hpp"
@@ -23,6 +22,7 @@
 #include "libcd/cuda/cuda_broad_phase.cuh"
 #include "libcd/cuda/device_memory_tracker.hpp"
 #include "ply_mesh.hpp"
+#include "tests/common/event_compare.hpp"
 
 namespace snag {
 namespace {

@@ -9,9 +9,11 @@
 // the same hits with the same formulas (event_fields.hpp).
 #include <gtest/gtest.h>
 
-#include <cstring>
-#include <stdexcept>
+#include <algorithm>
 #include <random>
+#include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "gpu_test.hpp"
@@ -22,11 +24,12 @@
 #include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
 #include "libcd/pipeline/event_fields.hpp"
+#include "tests/common/event_compare.hpp"
 
 namespace snag {
 namespace {
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using test::same_bits;
 
 /// The queries laid out as a scene: 4 vertices per query; VF: vertex 4q
 /// against face q = (4q+1, 4q+2, 4q+3); EE: edge 2q = (4q, 4q+1) against edge
@@ -214,29 +217,17 @@ TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithThickness) {
   expect_same_as_cpu(batch.ee_queries, ee_hits, settings, "thickness 1e-3");
 }
 
-/// Every field of two events, the doubles compared bit for bit.
-void expect_same_event(const Event& gpu, const Event& cpu, std::size_t k) {
-  EXPECT_EQ(gpu.kind, cpu.kind) << "event " << k;
-  EXPECT_EQ(gpu.type, cpu.type) << "event " << k;
-  EXPECT_EQ(gpu.frame, cpu.frame) << "event " << k;
-  EXPECT_EQ(gpu.a, cpu.a) << "event " << k;
-  EXPECT_EQ(gpu.b, cpu.b) << "event " << k;
-  EXPECT_EQ(gpu.certainty, cpu.certainty) << "event " << k;
-  EXPECT_TRUE(same_bits(gpu.toi_lo, cpu.toi_lo) && same_bits(gpu.toi_hi, cpu.toi_hi)) << "event " << k;
-  EXPECT_TRUE(same_bits(gpu.position.x, cpu.position.x) && same_bits(gpu.position.y, cpu.position.y) &&
-              same_bits(gpu.position.z, cpu.position.z))
-      << "event " << k << ": gpu (" << gpu.position.x << ", " << gpu.position.y << ", " << gpu.position.z
-      << ") cpu (" << cpu.position.x << ", " << cpu.position.y << ", " << cpu.position.z << ")";
-}
-
 TEST_F(NarrowPhaseCcdQueries, EventsBuiltOnTheDeviceAreTheHostsOfTheSameHits) {
   const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
   const QueryBatch batch = make_batch(queries);
   const DeviceBatch device(batch);
   CudaNarrowPhase narrow(nullptr);
-  narrow.set_chunk_size(97);  // many rounds, the last one partial
   const CcdSettings settings;
-  for (const CcdPasses passes : {CcdPasses::kScreenOnly, CcdPasses::kSinglePass}) {
+  // Many rounds, the last one partial; in rounds of 11 the events of a
+  // round with more than 4 hits are built in several slices.
+  for (const auto& [chunk, passes] : {std::pair{97, CcdPasses::kScreenOnly}, std::pair{97, CcdPasses::kSinglePass},
+                                      std::pair{11, CcdPasses::kScreenOnly}}) {
+    narrow.set_chunk_size(chunk);
     std::vector<CcdHit> vf_hits, ee_hits;
     std::vector<Event> events;
     narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
@@ -250,13 +241,11 @@ TEST_F(NarrowPhaseCcdQueries, EventsBuiltOnTheDeviceAreTheHostsOfTheSameHits) {
     ASSERT_GT(vf_hits.size(), 0u);
     ASSERT_GT(ee_hits.size(), 0u);
     ASSERT_EQ(events.size(), vf_hits.size() + ee_hits.size());
-    std::size_t uncertain = 0;
+    std::vector<Event> host;
     for (std::size_t k = 0; k < vf_hits.size(); ++k) {
       const VertexFaceCandidate c = batch.vf[vf_hits[k].candidate];
-      const Event cpu = vertex_face_fields(c.vertex, c.face, batch.x_t0[c.vertex], batch.x_t1[c.vertex],
-                                           vf_hits[k].result);
-      expect_same_event(events[k], cpu, k);
-      uncertain += cpu.certainty == Certainty::kUncertain;
+      host.push_back(
+          vertex_face_fields(c.vertex, c.face, batch.x_t0[c.vertex], batch.x_t1[c.vertex], vf_hits[k].result));
     }
     for (std::size_t k = 0; k < ee_hits.size(); ++k) {
       const EdgeEdgeCandidate c = batch.ee[ee_hits[k].candidate];
@@ -264,10 +253,12 @@ TEST_F(NarrowPhaseCcdQueries, EventsBuiltOnTheDeviceAreTheHostsOfTheSameHits) {
       const Edge& b = batch.edges[c.edge_b];
       const Vec3 ends_t0[4] = {batch.x_t0[a[0]], batch.x_t0[a[1]], batch.x_t0[b[0]], batch.x_t0[b[1]]};
       const Vec3 ends_t1[4] = {batch.x_t1[a[0]], batch.x_t1[a[1]], batch.x_t1[b[0]], batch.x_t1[b[1]]};
-      const Event cpu = edge_edge_fields(c.edge_a, c.edge_b, ends_t0, ends_t1, ee_hits[k].result);
-      expect_same_event(events[vf_hits.size() + k], cpu, vf_hits.size() + k);
-      uncertain += cpu.certainty == Certainty::kUncertain;
+      host.push_back(edge_edge_fields(c.edge_a, c.edge_b, ends_t0, ends_t1, ee_hits[k].result));
     }
+    test::expect_same_events(host, events, std::string(passes == CcdPasses::kScreenOnly ? "screen only" : "single pass") +
+                                               ", rounds of " + std::to_string(chunk));
+    const auto uncertain = std::count_if(host.begin(), host.end(),
+                                         [](const Event& e) { return e.certainty == Certainty::kUncertain; });
     if (passes == CcdPasses::kScreenOnly) EXPECT_GT(uncertain, 0u) << "the screen leaves the hard queries undecided";
   }
   std::vector<Event> events;
@@ -341,15 +332,16 @@ TEST_F(NarrowPhaseTrianglePairs, MatchesCpuOnRandomPairsWithSharedVertices) {
                                         event_counts),
             cpu_hits.size());
   EXPECT_EQ(event_counts.predicate_exact, cpu_counters.exact);
-  ASSERT_EQ(events.size(), cpu_hits.size());
-  for (std::size_t k = 0; k < cpu_hits.size(); ++k) {
-    const TrianglePair pair = pairs[cpu_hits[k]];
+  std::vector<Event> host;
+  for (const std::uint32_t k : cpu_hits) {
+    const TrianglePair pair = pairs[k];
     const Triangle& ta = triangles[pair.a];
     const Triangle& tb = triangles[pair.b];
     const Vec3 a[3] = {x[ta[0]], x[ta[1]], x[ta[2]]};
     const Vec3 b[3] = {x[tb[0]], x[tb[1]], x[tb[2]]};
-    expect_same_event(events[k], intersection_fields(pair.a, pair.b, a, b), k);
+    host.push_back(intersection_fields(pair.a, pair.b, a, b));
   }
+  test::expect_same_events(host, events, "intersection events");
 }
 
 TEST_F(NarrowPhaseTrianglePairs, EmptyInputGivesNoHits) {

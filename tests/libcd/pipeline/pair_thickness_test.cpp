@@ -10,6 +10,7 @@
 
 #include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/pair_thickness.hpp"
+#include "tests/common/event_compare.hpp"
 #include "tests/common/grid_object.hpp"
 
 namespace snag {
@@ -68,19 +69,6 @@ std::vector<Event> run_cpu(const Step& step, double thickness, std::size_t frame
   return events;
 }
 
-void expect_same(const std::vector<Event>& got, const std::vector<Event>& want) {
-  ASSERT_EQ(got.size(), want.size());
-  for (std::size_t i = 0; i < got.size(); ++i) {
-    const Event &g = got[i], &w = want[i];
-    EXPECT_TRUE(g.kind == w.kind && g.type == w.type && g.frame == w.frame && g.a == w.a && g.b == w.b)
-        << "event " << i << ": " << g.a << "," << g.b << " vs " << w.a << "," << w.b;
-    EXPECT_EQ(g.toi_lo, w.toi_lo) << "event " << i;
-    EXPECT_EQ(g.toi_hi, w.toi_hi) << "event " << i;
-    EXPECT_TRUE(g.position == w.position) << "event " << i;
-    EXPECT_EQ(g.certainty, w.certainty) << "event " << i;
-  }
-}
-
 const std::vector<double> kThickness = {0.002, 0.02, 0.0};  // cloth, body, pin
 
 double pair_thickness(std::size_t a, std::size_t b) { return 0.5 * (kThickness[a] + kThickness[b]); }
@@ -131,7 +119,7 @@ TEST(RedecideAtPairThickness, GivesTheEventsOfARunAtEachPairsThickness) {
   EXPECT_EQ(events.back().kind, EventKind::kIntersection);
   events.pop_back();
 
-  expect_same(events, want);
+  test::expect_same_events(want, events, "redecided");
   EXPECT_GT(counts.redecided, 0u);
   EXPECT_GT(counts.removed, 0u) << "the step must have pairs that touch at the largest thickness only";
   EXPECT_EQ(at_max - counts.removed, want.size());
@@ -153,7 +141,7 @@ TEST(RedecideAtPairThickness, LeavesEventsAtTheRunThicknessUntouched) {
   const RedecideCounts counts =
       redecide_at_pair_thickness(step.scene, step.x_t0, step.x_t1, thickness, 0.01, CcdSettings{}, nullptr, events);
   EXPECT_EQ(counts.redecided, 0u);
-  expect_same(events, before);
+  test::expect_same_events(before, events, "redecided");
 }
 
 /// A certifier that answers every query "collides, toi in [0.25, 0.5]" and
@@ -192,7 +180,7 @@ TEST(RedecideAtPairThickness, CertifiesUncertainAnswersAtThePairsThickness) {
   std::vector<Event> events = run_cpu(step, run_thickness, 0, ccd, &certifier);
   const std::size_t calls_at_max = certifier.thicknesses().size();
   redecide_at_pair_thickness(step.scene, step.x_t0, step.x_t1, kThickness, run_thickness, ccd, &certifier, events);
-  expect_same(events, want);
+  test::expect_same_events(want, events, "redecided");
   EXPECT_TRUE(std::any_of(want.begin(), want.end(), [](const Event& e) { return e.toi_lo == 0.25; }))
       << "some events must be the certifier's";
 

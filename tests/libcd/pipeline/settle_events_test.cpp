@@ -12,6 +12,7 @@
 
 #include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/event_builder.hpp"
+#include "tests/common/event_compare.hpp"
 #include "tests/common/grid_object.hpp"
 
 namespace snag {
@@ -111,32 +112,6 @@ class FixedCertifier final : public Certifier {
   ExactAnswer edge_edge(const std::array<Vec3, 8>&, double) const override { return {true, 0.25, 0.5}; }
 };
 
-void expect_same_events(const std::vector<Event>& got, const std::vector<Event>& want) {
-  ASSERT_EQ(got.size(), want.size());
-  for (std::size_t i = 0; i < got.size(); ++i) {
-    const Event &g = got[i], &w = want[i];
-    EXPECT_TRUE(g.kind == w.kind && g.type == w.type && g.frame == w.frame && g.a == w.a && g.b == w.b)
-        << "event " << i << ": " << g.a << "," << g.b << " vs " << w.a << "," << w.b;
-    EXPECT_EQ(g.toi_lo, w.toi_lo) << "event " << i;
-    EXPECT_EQ(g.toi_hi, w.toi_hi) << "event " << i;
-    EXPECT_TRUE(g.position == w.position) << "event " << i;
-    EXPECT_EQ(g.certainty, w.certainty) << "event " << i;
-  }
-}
-
-void expect_same_counts(const NarrowPhaseStats& got, const NarrowPhaseStats& want) {
-  EXPECT_EQ(got.vf_tests, want.vf_tests);
-  EXPECT_EQ(got.vf_yes, want.vf_yes);
-  EXPECT_EQ(got.vf_no, want.vf_no);
-  EXPECT_EQ(got.vf_uncertain, want.vf_uncertain);
-  EXPECT_EQ(got.ee_tests, want.ee_tests);
-  EXPECT_EQ(got.ee_yes, want.ee_yes);
-  EXPECT_EQ(got.ee_no, want.ee_no);
-  EXPECT_EQ(got.ee_uncertain, want.ee_uncertain);
-  EXPECT_EQ(got.certified, want.certified);
-  EXPECT_EQ(got.certified_true, want.certified_true);
-}
-
 TEST(SettleCollisionEvents, GivesTheEventsAndCountsOfTheWholeTestWithAndWithoutACertifier) {
   const Step step;
   const AllCandidates candidates(step.scene);
@@ -172,8 +147,8 @@ TEST(SettleCollisionEvents, GivesTheEventsAndCountsOfTheWholeTestWithAndWithoutA
       EXPECT_EQ(events[0].a, 7u) << "events before `first` are left alone";
       events.erase(events.begin());
       sort_events_from(events, 0);
-      expect_same_events(events, want);
-      expect_same_counts(stats, want_stats);
+      test::expect_same_events(want, events, "settled");
+      test::expect_same_counts(want_stats, stats, "settled");
       if (settings.max_iterations == few_boxes.max_iterations) {
         EXPECT_GT(want_stats.vf_uncertain + want_stats.ee_uncertain, 0u) << "the certifier must be asked";
       }

@@ -1,4 +1,4 @@
-// Comparison of two back ends' results, shared by the CUDA back-end tests:
+// Comparison of two back ends' results (or of two paths to the same events):
 // the same event vectors bit for bit (kind, type, ids, times of impact,
 // positions, certainty) and the same narrow-phase counts.
 #pragma once
