@@ -231,8 +231,8 @@ class CudaBackend final : public Backend {
     arena_->execute([&] {
       settle_collision_events(*scene_, x_t0, x_t1, vf_count, ee_count, settings_.ccd, settings_.certifier,
                               stats_.narrow, events, first);
+      sort_events_from(events, first);
     });
-    sort_events_from(events, first);
     stats_.narrow.seconds_ccd_events = seconds_since(events_start) - stats_.narrow.seconds_certify;
     // The narrow phase's rounds ran inside the broad phase's chunks.
     stats_.narrow.seconds_ccd = narrow_seconds + seconds_since(events_start) - stats_.narrow.seconds_certify;

@@ -1,6 +1,7 @@
 #include "libcd/pipeline/event_builder.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <chrono>
@@ -145,7 +146,7 @@ Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const T
 
 void sort_events_from(std::vector<Event>& events, std::size_t first) {
   const auto begin = events.begin() + static_cast<std::ptrdiff_t>(first);
-  if (!std::is_sorted(begin, events.end(), event_order)) std::sort(begin, events.end(), event_order);
+  if (!std::is_sorted(begin, events.end(), event_order)) tbb::parallel_sort(begin, events.end(), event_order);
 }
 
 void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x,

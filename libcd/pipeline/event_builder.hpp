@@ -78,7 +78,7 @@ std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>&
                                     const Certifier* certifier, NarrowPhaseStats& stats, std::vector<Event>& events,
                                     std::size_t first);
 
-/// Sorts events[first, end) by event_order. The collisions of a step usually
+/// Sorts events[first, end) by event_order, in parallel (on the calling task arena). The collisions of a step usually
 /// arrive in that order already (candidates are sorted by the ids events are
 /// ordered by, vertex-face before edge-edge), and then nothing is moved: the
 /// check is one pass. Event keys are unique, so the result does not depend on

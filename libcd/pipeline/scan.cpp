@@ -107,7 +107,7 @@ void finish_events(std::vector<Event>& events, std::size_t collisions, FrameSumm
     }
     if (ordered && i > 0 && event_order(event, events[i - 1])) ordered = false;
   }
-  if (!ordered) sort_events_from(events, 0);
+  if (!ordered) std::sort(events.begin(), events.end(), event_order);  // on this thread: the scan's own
 }
 
 }  // namespace
