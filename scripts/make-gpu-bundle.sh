@@ -8,6 +8,9 @@
 #   SNAG_CUDA_ARCHITECTURES  CUDA architectures to compile for (default 90: H100/H200)
 #   JOBS                     parallel build jobs (default 2)
 #   SNAG_BUNDLE_LIMIT_MIB    largest bundle allowed, uncompressed MiB (default 96)
+#   SNAG_BUNDLE_FROM         an existing build folder with CUDA on (e.g. build/ of
+#                            scripts/build.sh): its GPU executables are packed as
+#                            they are, without configuring or building build-gpu/
 #
 # What goes in (the executables are listed by CMake in build-gpu/gpu-targets.txt,
 # see snag_register_gpu_target in libcd/cuda/CMakeLists.txt):
@@ -37,7 +40,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
-build=$root/build-gpu
+build=${SNAG_BUNDLE_FROM:-$root/build-gpu}
 bundle=$root/.gpu-bundle
 data=$root/../shared/data
 arch=${SNAG_CUDA_ARCHITECTURES:-90}
@@ -46,23 +49,29 @@ limit_mib=${SNAG_BUNDLE_LIMIT_MIB:-96}
 
 [ -d "$data" ] || { echo "make-gpu-bundle: reference data not found at $data" >&2; exit 1; }
 
-launchers=()
-if command -v ccache >/dev/null; then
-  launchers=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_CUDA_COMPILER_LAUNCHER=ccache)
-fi
-generator=()
-[ -f "$build/CMakeCache.txt" ] || { command -v ninja >/dev/null && generator=(-G Ninja); }
-
-echo "== configure $build (CUDA architectures $arch)"
-cmake -S "$root" -B "$build" "${generator[@]}" "${launchers[@]}" \
-  -DCMAKE_BUILD_TYPE=Release -DSNAG_WITH_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES="$arch" \
-  -DSNAG_WITH_OPENVDB=OFF -DSNAG_WITH_ASSIMP=OFF -DSNAG_BUILD_TESTS=ON -DSNAG_BUILD_BENCHMARKS=ON "$@" >/dev/null
-
 targets_file=$build/gpu-targets.txt
-[ -s "$targets_file" ] || { echo "make-gpu-bundle: no GPU executables registered ($targets_file is empty)" >&2; exit 1; }
-mapfile -t targets < <(awk '{print $2}' "$targets_file")
-echo "== build ${targets[*]}"
-cmake --build "$build" --parallel "$jobs" --target "${targets[@]}"
+if [ -z "${SNAG_BUNDLE_FROM:-}" ]; then
+  launchers=()
+  if command -v ccache >/dev/null; then
+    launchers=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_CUDA_COMPILER_LAUNCHER=ccache)
+  fi
+  generator=()
+  [ -f "$build/CMakeCache.txt" ] || { command -v ninja >/dev/null && generator=(-G Ninja); }
+
+  echo "== configure $build (CUDA architectures $arch)"
+  cmake -S "$root" -B "$build" "${generator[@]}" "${launchers[@]}" \
+    -DCMAKE_BUILD_TYPE=Release -DSNAG_WITH_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES="$arch" \
+    -DSNAG_WITH_OPENVDB=OFF -DSNAG_WITH_ASSIMP=OFF -DSNAG_BUILD_TESTS=ON -DSNAG_BUILD_BENCHMARKS=ON "$@" >/dev/null
+
+  [ -s "$targets_file" ] || { echo "make-gpu-bundle: no GPU executables registered ($targets_file is empty)" >&2; exit 1; }
+  mapfile -t targets < <(awk '{print $2}' "$targets_file")
+  echo "== build ${targets[*]}"
+  cmake --build "$build" --parallel "$jobs" --target "${targets[@]}"
+else
+  [ -s "$targets_file" ] || { echo "make-gpu-bundle: $build has no GPU executables ($targets_file is missing or empty)" >&2; exit 1; }
+  arch=$(sed -n 's/^CMAKE_CUDA_ARCHITECTURES:[A-Z]*=//p' "$build/CMakeCache.txt")
+  echo "== packing the GPU executables of $build as built (CUDA architectures $arch)"
+fi
 
 echo "== pack $bundle"
 rm -rf "$bundle"
