@@ -207,7 +207,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // 5. One test per thread; 6. sort + unique of root pairs, chunk by chunk.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   last_chunks_ = 0;
-  enumerate_pairs_on_device(b.cells, grid, b.bounds.triangles.data(), triangle_count,
+  enumerate_pairs_on_device(b.cells, grid, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(), triangle_count,
                             settings_.count_culled_duplicates, *plan_, b.pairs, stream, stats_,
                             [&](const TrianglePair* pairs, std::size_t count) {
                               ++last_chunks_;
@@ -320,6 +320,7 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
                       b.topology.masks.capacity_bytes() + b.topology.edge_ids.capacity_bytes());
   add("uploaded positions", b.x_t0.capacity_bytes() + b.x_t1.capacity_bytes());
   add("bounds: triangle DOPs", b.bounds.triangles.capacity_bytes());
+  add("bounds: triangle float boxes", b.bounds.triangle_boxes.capacity_bytes());
   add("bounds: edge DOPs", b.bounds.edges.capacity_bytes());
   add("bounds: vertex DOPs", b.bounds.vertices.capacity_bytes());
   add("bounds: radii, scratch", b.bounds.triangle_radii.capacity_bytes() + b.bounds.temp.capacity_bytes() +

@@ -94,32 +94,37 @@ __global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells
 constexpr unsigned kHistogramBuckets = 1024;
 
 /// The tests of a chunk, one work item per thread and round: work item w
-/// finds its cell by binary search and its pair by the triangular inversion
-/// (from the chunk's first row of the cell on), runs the CPU's filters in
-/// the CPU's order, and each kept test adds one to its smaller root's bucket
-/// of the histogram over [range_first, ...) (in shared memory, added to
-/// `histogram` once per block). The grid is sized to fill the device once and strides over the
-/// work items, so the counters are summed in registers and added with one
-/// atomic per warp at the end; kept (and, with count_culled, culled) root
-/// pairs are appended with one atomic per warp and round. Every lane runs
-/// every round, so warp-wide operations see full warps.
+/// finds its cell by a galloping search from the cell of the thread's last
+/// one (a thread's work items ascend by the grid's stride) and its pair by
+/// the triangular inversion (from the chunk's first row of the cell on), runs
+/// the CPU's filters in the CPU's order (the roots' DOP test after their float
+/// boxes': the same answer, see float_box.hpp), and each kept test adds one to
+/// its smaller root's bucket of the histogram over [range_first, ...) (in
+/// shared memory, added to `histogram` once per block). The grid is sized to
+/// fill the device once and strides over the work items, so the counters are
+/// summed in registers and added with one atomic per warp at the end; kept
+/// (and, with count_culled, culled) root pairs are appended with one atomic per
+/// warp and round. Every lane runs every round, so warp-wide operations see
+/// full warps.
 __global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test, std::size_t cells,
                             const std::uint64_t* row_first, const std::uint64_t* first,
                             const std::uint64_t* cell_ids, const RegisteredLeaf* registered, GridSpec grid,
-                            const Dop18* triangle_dops, std::uint32_t range_first, std::uint32_t bucket_width,
-                            unsigned* histogram, std::uint64_t* kept, std::uint64_t kept_capacity, bool count_culled,
-                            std::uint64_t* culled, std::uint64_t culled_capacity, unsigned long long* counters) {
+                            const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::uint32_t range_first,
+                            std::uint32_t bucket_width, unsigned* histogram, std::uint64_t* kept,
+                            std::uint64_t kept_capacity, bool count_culled, std::uint64_t* culled,
+                            std::uint64_t culled_capacity, unsigned long long* counters) {
   __shared__ unsigned block_histogram[kHistogramBuckets];
   for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
   __syncthreads();
   unsigned same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culls = 0;
   const std::uint64_t stride = static_cast<std::uint64_t>(gridDim.x) * blockDim.x;
+  std::uint64_t c = 0;  // the cell of this thread's last work item (first_test[c] <= w)
   for (std::uint64_t base = static_cast<std::uint64_t>(blockIdx.x) * blockDim.x; base < tests; base += stride) {
     const std::uint64_t w = base + threadIdx.x;
     bool keep = false, cull = false;
     std::uint64_t key = 0;
     if (w < tests) {
-      const std::uint64_t c = cell_of_work_item(first_test, cells, w);
+      c = cell_of_work_item_from(first_test, cells, c, w);
       const std::uint64_t n = first[c + 1] - first[c];
       std::uint64_t i = 0, j = 0;
       pair_from_index(n, w - first_test[c] + row_first[c], i, j);
@@ -139,7 +144,10 @@ __global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test
           case CellPairVerdict::kTest: {
             ++passed;
             key = pack_pair(ra, rb);
-            if (dop_overlap(triangle_dops[ra], triangle_dops[rb])) {
+            // The float boxes first (24 bytes each, most pairs apart there);
+            // the DOPs (144 bytes each) only where the boxes meet.
+            if (float_boxes_may_overlap(triangle_boxes[ra], triangle_boxes[rb]) &&
+                dop_overlap(triangle_dops[ra], triangle_dops[rb])) {
               keep = true;
               atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
             } else {
@@ -280,8 +288,8 @@ void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& li
   SNAG_CUDA_CHECK_LAUNCH();
 }
 
-void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid,
-                               const Dop18* triangle_dops, std::size_t triangle_count, bool count_culled,
+void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
+                               const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
                                PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit) {
   const std::size_t cells = lists.cells;
@@ -373,8 +381,8 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
           (range_tests + detail::kBlockSize - 1) / detail::kBlockSize, resident_blocks);
       test_kernel<<<static_cast<unsigned>(blocks), detail::kBlockSize, 0, stream>>>(
           range_tests, p.first_test.data(), cells, p.row_first.data(), lists.first.data(), lists.cell_ids.data(),
-          p.registered.data(), grid, triangle_dops, range.first, bucket_width, p.histogram.data(), p.kept.data(),
-          kept_room, count_culled, p.culled.data(), culled_room, p.counters.data());
+          p.registered.data(), grid, triangle_dops, triangle_boxes, range.first, bucket_width, p.histogram.data(),
+          p.kept.data(), kept_room, count_culled, p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();
       p.counters.download(counts, kCounters);
       p.histogram.download(histogram.data(), kHistogramBuckets);

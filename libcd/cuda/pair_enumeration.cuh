@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "libcd/bounding_volume/dop18.hpp"
+#include "libcd/bounding_volume/float_box.hpp"
 #include "libcd/broad_phase/broad_phase.hpp"
 #include "libcd/cuda/cell_registration.cuh"
 
@@ -88,8 +89,10 @@ void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& li
 /// stats.seconds_pairs (CUDA events, visit's time left out). Waits for the
 /// stream. Throws CudaError, UsageError.
 /// @param triangle_dops  #F device root swept DOPs; triangle_count = #F
-void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid,
-                               const Dop18* triangle_dops, std::size_t triangle_count, bool count_culled,
+/// @param triangle_boxes #F device float_box_of(triangle_dops[f]): a pair whose
+///                       boxes are apart is culled without reading its DOPs
+void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
+                               const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
                                PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream, BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit);
 

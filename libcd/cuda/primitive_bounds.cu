@@ -36,13 +36,15 @@ struct Quantize {
 };
 
 __global__ void triangle_bounds_kernel(const Triangle* tris, std::size_t n, const Vec3* x_t0, const Vec3* x_t1,
-                                       double thickness, Dop18* dops, double* radii) {
+                                       double thickness, Dop18* dops, FloatBox* boxes, double* radii) {
   const std::uint64_t f = thread_item();
   if (f >= n) return;
   const Triangle t = tris[f];
   const Vec3 c_t0[3] = {x_t0[t[0]], x_t0[t[1]], x_t0[t[2]]};
   const Vec3 c_t1[3] = {x_t1[t[0]], x_t1[t[1]], x_t1[t[2]]};
-  dops[f] = swept_dop(c_t0, c_t1, 3, thickness);
+  const Dop18 dop = swept_dop(c_t0, c_t1, 3, thickness);
+  dops[f] = dop;
+  boxes[f] = float_box_of(dop);
   const Vec3 points[6] = {c_t0[0], c_t0[1], c_t0[2], c_t1[0], c_t1[1], c_t1[2]};
   radii[f] = sphere_of_points(points, 6).radius + thickness;
 }
@@ -75,10 +77,12 @@ void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t t
                                         std::size_t vertex_count, double thickness, DevicePrimitiveBounds& out,
                                         cudaStream_t stream, Vec3& scene_lo, Vec3& scene_hi, double& max_radius,
                                         const GrowthCheck& check) {
-  check_growth(check, out.triangles.growth_bytes(triangle_count) + out.triangle_radii.growth_bytes(triangle_count) +
+  check_growth(check, out.triangles.growth_bytes(triangle_count) + out.triangle_boxes.growth_bytes(triangle_count) +
+                          out.triangle_radii.growth_bytes(triangle_count) +
                           out.edges.growth_bytes(edge_count) + out.vertices.growth_bytes(vertex_count) +
                           out.box.growth_bytes(4) + out.max_radius.growth_bytes(1));
   out.triangles.resize(triangle_count);
+  out.triangle_boxes.resize(triangle_count);
   out.triangle_radii.resize(triangle_count);
   out.edges.resize(edge_count);
   out.vertices.resize(vertex_count);
@@ -86,7 +90,8 @@ void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t t
   out.max_radius.resize(1);
   if (triangle_count > 0) {
     triangle_bounds_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(
-        triangles, triangle_count, x_t0, x_t1, thickness, out.triangles.data(), out.triangle_radii.data());
+        triangles, triangle_count, x_t0, x_t1, thickness, out.triangles.data(), out.triangle_boxes.data(),
+        out.triangle_radii.data());
     SNAG_CUDA_CHECK_LAUNCH();
   }
   if (edge_count > 0) {

@@ -11,6 +11,7 @@
 #include <cstddef>
 
 #include "libcd/bounding_volume/dop18.hpp"
+#include "libcd/bounding_volume/float_box.hpp"
 #include "libcd/cuda/device_buffer.cuh"
 #include "libcd/geometry/vec3.hpp"
 #include "libcd/grid/radius_sum.hpp"
@@ -21,6 +22,7 @@ namespace snag {
 /// Device arrays of the bounds of one step (global ids, as PrimitiveBounds).
 struct DevicePrimitiveBounds {
   DeviceBuffer<Dop18> triangles;          ///< #F
+  DeviceBuffer<FloatBox> triangle_boxes;  ///< #F, float_box_of(triangles[f]): the pair tests' first test
   DeviceBuffer<Dop18> edges;              ///< #E
   DeviceBuffer<Dop18> vertices;           ///< #V
   DeviceBuffer<double> triangle_radii;    ///< #F, thickness included
@@ -30,13 +32,13 @@ struct DevicePrimitiveBounds {
   DeviceBuffer<unsigned char> temp;       ///< CUB scratch
 
   explicit DevicePrimitiveBounds(cudaStream_t stream)
-      : triangles(0, stream), edges(0, stream), vertices(0, stream), triangle_radii(0, stream), box(0, stream),
-        max_radius(0, stream), radius_sum(0, stream), temp(0, stream) {}
+      : triangles(0, stream), triangle_boxes(0, stream), edges(0, stream), vertices(0, stream),
+        triangle_radii(0, stream), box(0, stream), max_radius(0, stream), radius_sum(0, stream), temp(0, stream) {}
 };
 
-/// Computes the DOPs and radii of all primitives, the scene box (inflated by
-/// thickness and rounding pad exactly as compute_primitive_bounds) and the
-/// largest radius. Waits for the stream (the box and maximum come to the host).
+/// Computes the DOPs and radii of all primitives, the triangles' float boxes,
+/// the scene box (inflated by thickness and rounding pad exactly as
+/// compute_primitive_bounds) and the largest radius. Waits for the stream (the box and maximum come to the host).
 /// @param triangles  #F device triangles; edges #E device edges
 /// @param x_t0, x_t1 #V device positions (the same pointer twice for static detection)
 /// @param thickness  ≥ 0, scene units

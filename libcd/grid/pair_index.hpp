@@ -29,6 +29,25 @@ SNAG_HD_INLINE std::uint64_t cell_of_work_item(const std::uint64_t* first, std::
   return lo;
 }
 
+/// cell_of_work_item(first, cells, w) found from a cell `from` with
+/// first[from] <= w (the cell of an earlier work item: cells ascend with the
+/// work items): a galloping search forward from it, one read when w lies in
+/// the same cell, about 2·log2(d) when it lies d cells further.
+SNAG_HD_INLINE std::uint64_t cell_of_work_item_from(const std::uint64_t* first, std::uint64_t cells,
+                                                    std::uint64_t from, std::uint64_t w) {
+  std::uint64_t lo = from, hi = from + 1, step = 1;  // first[lo] <= w
+  while (hi < cells && first[hi] <= w) {
+    lo = hi;
+    step *= 2;
+    hi = cells - lo > step ? lo + step : cells;
+  }
+  while (hi - lo > 1) {  // answer in [lo, hi): first[hi] > w or hi = cells
+    const std::uint64_t mid = lo + (hi - lo) / 2;
+    if (first[mid] <= w) lo = mid; else hi = mid;
+  }
+  return lo;
+}
+
 /// Pair k (0 <= k < pair_count(n)) of n items, numbered row by row:
 /// (0,1), (0,2), ..., (0,n-1), (1,2), ... Returns i < j.
 SNAG_HD_INLINE void pair_from_index(std::uint64_t n, std::uint64_t k, std::uint64_t& i, std::uint64_t& j) {

@@ -1,11 +1,16 @@
 // Tests for bounding_volume/: swept 18-DOPs contain the moving triangle at
-// every sampled time, thickness inflation contains the thickness ball, and
-// bounding spheres contain their points.
+// every sampled time, thickness inflation contains the thickness ball,
+// bounding spheres contain their points, and float boxes are rounded outward
+// (boxes apart only where the DOPs are apart).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
+#include <vector>
 
 #include "libcd/bounding_volume/bounding_sphere.hpp"
+#include "libcd/bounding_volume/float_box.hpp"
 #include "libcd/bounding_volume/primitive_bounds.hpp"
 
 namespace snag {
@@ -68,6 +73,74 @@ TEST(Dop18, OverlapIsClosedAndSymmetric) {
   const Vec3 p{0.9, 0.1, 0.5};
   const Dop18 dp = dop_of_points(&p, 1, 0, 0);
   EXPECT_FALSE(dop_overlap(da, dp));
+}
+
+TEST(FloatBox, BoundsAreTheNearestFloatsOnTheirSide) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> mantissa(-1, 1);
+  std::uniform_int_distribution<int> exponent(-160, 140);  // float's denormals to past its range
+  std::vector<double> values = {0.0, -0.0, 1.0, -1.0, 0.1, -0.1, 1e-45, -1e-45, 3.4e38, 3.5e38, -3.5e38, 1e300,
+                                -1e300, kInf, -kInf};
+  for (int i = 0; i < 100000; ++i) values.push_back(std::ldexp(mantissa(rng), exponent(rng)));
+  for (double d : values) {
+    const float below = float_at_most(d), above = float_at_least(d);
+    ASSERT_LE(static_cast<double>(below), d) << d;
+    ASSERT_GE(static_cast<double>(above), d) << d;
+    if (std::isinf(d)) continue;
+    // Nearest on its side: the next float outward would pass d.
+    ASSERT_GT(static_cast<double>(std::nextafter(below, std::numeric_limits<float>::infinity())), d) << d;
+    ASSERT_LT(static_cast<double>(std::nextafter(above, -std::numeric_limits<float>::infinity())), d) << d;
+    if (static_cast<double>(static_cast<float>(d)) == d) {
+      EXPECT_EQ(below, static_cast<float>(d));
+      EXPECT_EQ(above, static_cast<float>(d));
+    }
+  }
+  EXPECT_TRUE(std::isnan(float_at_most(std::nan(""))));
+  EXPECT_TRUE(std::isnan(float_at_least(std::nan(""))));
+}
+
+TEST(FloatBox, BoxesApartOnlyWhereTheDopsAreApart) {
+  // Slabs that meet or miss each other by less than a float's spacing, where
+  // rounding either way decides: the boxes must never call apart what the
+  // DOPs call overlapping, and they must still part most pairs the DOPs part
+  // along x, y or z by more than that spacing.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::uniform_int_distribution<int> axis_of(0, 2);
+  int rejected = 0, rejectable = 0;
+  for (int trial = 0; trial < 200000; ++trial) {
+    const double scale = std::ldexp(1.0, static_cast<int>(unit(rng) * 40) - 20);
+    Dop18 a, b;
+    for (int k = 0; k < kDopAxes; ++k) {
+      a.lo[k] = b.lo[k] = -scale;
+      a.hi[k] = b.hi[k] = scale;
+    }
+    const int axis = axis_of(rng);
+    const double gap = (unit(rng) - 0.5) * scale * (trial % 2 ? 1e-5 : 1e-9);  // < 0: they overlap
+    a.hi[axis] = scale * (0.5 + unit(rng));
+    b.lo[axis] = a.hi[axis] + gap;
+    const bool dops = dop_overlap(a, b);
+    const bool boxes = float_boxes_may_overlap(float_box_of(a), float_box_of(b));
+    ASSERT_TRUE(boxes || !dops) << "axis " << axis << " a.hi " << a.hi[axis] << " b.lo " << b.lo[axis];
+    if (gap > 4 * scale * std::numeric_limits<float>::epsilon()) {
+      ++rejectable;
+      rejected += !boxes;
+    }
+  }
+  EXPECT_GT(rejectable, 1000);
+  EXPECT_EQ(rejected, rejectable);
+}
+
+TEST(FloatBox, NanBoundsLeaveTheDecisionToTheDops) {
+  Dop18 a, b;
+  for (int k = 0; k < kDopAxes; ++k) {
+    a.lo[k] = 0, a.hi[k] = 1;
+    b.lo[k] = 2, b.hi[k] = 3;
+  }
+  a.hi[0] = a.hi[1] = a.hi[2] = std::nan("");
+  b.lo[0] = b.lo[1] = b.lo[2] = std::nan("");
+  EXPECT_TRUE(float_boxes_may_overlap(float_box_of(a), float_box_of(b)));
 }
 
 TEST(BoundingSphere, ContainsItsPoints) {

@@ -5,6 +5,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <vector>
 
 #include "libcd/grid/cell_size.hpp"
 #include "libcd/grid/control_bits.hpp"
@@ -76,6 +77,26 @@ TEST(PairIndex, WorkItemFindsItsCellAcrossEmptyCells) {
   const std::uint64_t first[] = {0, 0, 3, 3, 3, 4, 10};
   const std::uint64_t expected[] = {1, 1, 1, 4, 5, 5, 5, 5, 5, 5};
   for (std::uint64_t w = 0; w < 10; ++w) EXPECT_EQ(cell_of_work_item(first, 6, w), expected[w]) << w;
+}
+
+TEST(PairIndex, GallopingFromAnEarlierCellFindsTheCellOfTheBinarySearch) {
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 200; ++trial) {
+    // Runs of empty cells between cells of 1 to a few thousand items.
+    const std::uint64_t cells = 1 + rng() % 3000;
+    std::vector<std::uint64_t> first(cells + 1, 0);
+    for (std::uint64_t c = 0; c < cells; ++c)
+      first[c + 1] = first[c] + (rng() % 3 == 0 ? 0 : 1 + rng() % (1u << (rng() % 12)));
+    const std::uint64_t total = first[cells];
+    if (total == 0) continue;
+    // Ascending work items, as one thread strides over them.
+    const std::uint64_t stride = 1 + rng() % (trial % 2 ? 64 : total);
+    std::uint64_t c = 0;
+    for (std::uint64_t w = rng() % std::min<std::uint64_t>(stride, total); w < total; w += stride) {
+      c = cell_of_work_item_from(first.data(), cells, c, w);
+      ASSERT_EQ(c, cell_of_work_item(first.data(), cells, w)) << "trial " << trial << " w " << w;
+    }
+  }
 }
 
 LeafCells random_leaf(std::mt19937& rng) {
