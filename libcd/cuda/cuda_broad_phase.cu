@@ -422,13 +422,11 @@ void CudaBroadPhase::release_buffers() {
 std::unique_ptr<BroadPhase> make_cuda_broad_phase(BroadPhaseMethod method) { return CudaBroadPhase::create(method); }
 
 std::unique_ptr<CudaBroadPhase> CudaBroadPhase::create(BroadPhaseMethod method) {
-  switch (method) {
-    case BroadPhaseMethod::kVirtualSubdivisionGrid: return std::make_unique<CudaBroadPhase>(true);
-    case BroadPhaseMethod::kLargestTriangleGrid: return std::make_unique<CudaBroadPhase>(false);
-    case BroadPhaseMethod::kBruteForce: break;
-    case BroadPhaseMethod::kAdaptiveGrid: throw UsageError("broad phase: the CUDA back end has no adaptive grid");
-  }
-  throw UsageError("broad phase: the CUDA back end has no brute-force broad phase");
+  if (method == BroadPhaseMethod::kVirtualSubdivisionGrid) return std::make_unique<CudaBroadPhase>(true);
+  if (method == BroadPhaseMethod::kLargestTriangleGrid) return std::make_unique<CudaBroadPhase>(false);
+  // The CPU's others: brute force, the box grid, the adaptive grid, sweep and prune.
+  throw UsageError(std::string("broad phase: the CUDA back end has no ") + broad_phase_method_name(method) +
+                   " broad phase (it has vss-grid and largest-grid)");
 }
 
 }  // namespace snag

@@ -159,8 +159,16 @@ TEST(CudaBroadPhaseCellSize, ExactRadiusSumIgnoresOrder) {
   EXPECT_EQ(virtual_subdivision_cell_size(radii, 1.2), size);
 }
 
-TEST(CudaBroadPhaseFactory, RejectsBruteForce) {
-  EXPECT_THROW(make_cuda_broad_phase(BroadPhaseMethod::kBruteForce), UsageError);
+TEST(CudaBroadPhaseFactory, RejectsTheCpuOnlyMethodsNamingThem) {
+  for (BroadPhaseMethod method : {BroadPhaseMethod::kBruteForce, BroadPhaseMethod::kBoxGrid,
+                                  BroadPhaseMethod::kAdaptiveGrid, BroadPhaseMethod::kSweepAndPrune}) {
+    try {
+      make_cuda_broad_phase(method);
+      ADD_FAILURE() << broad_phase_method_name(method) << " was accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find(broad_phase_method_name(method)), std::string::npos) << e.what();
+    }
+  }
 }
 
 class CudaBroadPhaseTest : public test::GpuTest {};
