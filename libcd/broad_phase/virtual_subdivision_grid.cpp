@@ -30,8 +30,9 @@ struct PairCounts {
 
 /// The two rules every cell applies before its own: leaves of one root are
 /// never tested, nor leaves whose time slots do not nest. Counts which one
-/// rejected the pair.
-bool leaves_may_meet(const VirtualTriangle& a, const VirtualTriangle& b, PairCounts& counts) {
+/// rejected the pair. LeafLike: VirtualTriangle or RegisteredLeaf.
+template <class LeafLike>
+bool leaves_may_meet(const LeafLike& a, const LeafLike& b, PairCounts& counts) {
   if (a.root == b.root) {
     ++counts.same_root;
     return false;
@@ -156,7 +157,7 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, registered.size(), 4096), [&](const auto& range) {
     for (std::size_t r = range.begin(); r != range.end(); ++r) {
       const Leaf& leaf = leaves_[lists.leaves[r]];
-      registered[r] = RegisteredLeaf{leaf.triangle, leaf.cells};
+      registered[r] = registered_leaf(leaf);
     }
   });
 
@@ -166,14 +167,14 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
                   std::vector<std::uint64_t>& kept, std::vector<std::uint64_t>& culled) {
     const RegisteredLeaf& a = registered[lists.first[c] + i];
     const RegisteredLeaf& b = registered[lists.first[c] + j];
-    if (!leaves_may_meet(a.triangle, b.triangle, counts)) return;
+    if (!leaves_may_meet(a, b, counts)) return;
     switch (cell_pair_verdict(grid_, a.cells, b.cells, lists.cell_ids[c])) {
       case CellPairVerdict::kSkipControlBits: ++counts.control_bits; return;
       case CellPairVerdict::kSkipExtendedBits: ++counts.extended; return;
       case CellPairVerdict::kTestFallback: ++counts.fallback; break;
       case CellPairVerdict::kTest: break;
     }
-    const Index ra = a.triangle.root, rb = b.triangle.root;
+    const Index ra = a.root, rb = b.root;
     record_dop_test(dop_overlap(bounds_.triangles[ra], bounds_.triangles[rb]), ra, rb, count_culled, counts, kept,
                     culled);
   };

@@ -58,7 +58,7 @@ __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t
   const std::uint64_t r = thread_item();
   if (r >= count) return;
   const Leaf& leaf = leaves[ids[r]];
-  out[r] = RegisteredLeaf{leaf.triangle, leaf.cells};
+  out[r] = registered_leaf(leaf);
 }
 
 /// The first of a cell's leaves (ordered by root) whose root is at least `root`.
@@ -66,7 +66,7 @@ __device__ std::uint64_t first_with_root(const RegisteredLeaf* registered, std::
                                          std::uint32_t root) {
   while (begin < end) {
     const std::uint64_t mid = begin + (end - begin) / 2;
-    if (registered[mid].triangle.root < root) begin = mid + 1; else end = mid;
+    if (registered[mid].root < root) begin = mid + 1; else end = mid;
   }
   return begin;
 }
@@ -130,11 +130,11 @@ __global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test
       pair_from_index(n, w - first_test[c] + row_first[c], i, j);
       const RegisteredLeaf& a = registered[first[c] + i];
       const RegisteredLeaf& b = registered[first[c] + j];
-      const Index ra = a.triangle.root, rb = b.triangle.root;
+      const Index ra = a.root, rb = b.root;
       const Index low = ra < rb ? ra : rb;
       if (ra == rb) {
         ++same_root;
-      } else if (!slots_nested(a.triangle, b.triangle)) {
+      } else if (!slots_nested(a, b)) {
         ++time_slots;
       } else {
         switch (cell_pair_verdict(grid, a.cells, b.cells, cell_ids[c])) {

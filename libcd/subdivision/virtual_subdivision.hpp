@@ -31,13 +31,28 @@ struct Leaf {
   LeafCells cells;
 };
 
-/// What the pair tests read of a leaf. Both back ends copy the leaves in
-/// registration order (cell by cell), so that the leaves of one cell lie side
-/// by side and the tests of a cell read them from cache.
+/// What the pair tests read of a leaf: its root, its time slot and its cells
+/// (92 bytes; not the corners, which only the leaf's own DOP needed). Both
+/// back ends copy the leaves in registration order (cell by cell), so that
+/// the leaves of one cell lie side by side and the tests of a cell read them
+/// from cache; a cell of n leaves is read about n times over, so every byte
+/// here is paid for on each of its tests.
 struct RegisteredLeaf {
-  VirtualTriangle triangle;  ///< root and time slot are read
+  Index root = 0;                ///< the leaf's root triangle
+  std::uint32_t slot_depth = 0;  ///< its time slot (VirtualTriangle::slot_depth, slot_index)
+  std::uint32_t slot_index = 0;
   LeafCells cells;
 };
+static_assert(sizeof(RegisteredLeaf) == 92, "RegisteredLeaf: the pair tests read all of it on every test");
+
+SNAG_HD_INLINE RegisteredLeaf registered_leaf(const Leaf& leaf) {
+  return RegisteredLeaf{leaf.triangle.root, leaf.triangle.slot_depth, leaf.triangle.slot_index, leaf.cells};
+}
+
+/// slots_nested of the two leaves' time slots.
+SNAG_HD_INLINE bool slots_nested(const RegisteredLeaf& a, const RegisteredLeaf& b) {
+  return slots_nested(a.slot_depth, a.slot_index, b.slot_depth, b.slot_index);
+}
 
 /// What one subdivision level did.
 struct SubdivisionLevelCounts {

@@ -49,9 +49,14 @@ SNAG_HD_INLINE double slot_end(const VirtualTriangle& t) {
 /// True when two dyadic slots share an interval of positive length (one holds
 /// the other). Every time in [0,1] lies in such a pair of slots of any two
 /// slot partitions, so pairs of non-nested slots need no test.
+/// Slots are given as (depth, index): [index/2^depth, (index+1)/2^depth].
+SNAG_HD_INLINE bool slots_nested(std::uint32_t depth_a, std::uint32_t index_a, std::uint32_t depth_b,
+                                 std::uint32_t index_b) {
+  if (depth_a <= depth_b) return (index_b >> (depth_b - depth_a)) == index_a;
+  return (index_a >> (depth_a - depth_b)) == index_b;
+}
 SNAG_HD_INLINE bool slots_nested(const VirtualTriangle& a, const VirtualTriangle& b) {
-  if (a.slot_depth <= b.slot_depth) return (b.slot_index >> (b.slot_depth - a.slot_depth)) == a.slot_index;
-  return (a.slot_index >> (a.slot_depth - b.slot_depth)) == b.slot_index;
+  return slots_nested(a.slot_depth, a.slot_index, b.slot_depth, b.slot_index);
 }
 
 /// Position of corner i of t at root corner positions p[3].
