@@ -70,6 +70,7 @@ if [ -z "${SNAG_BUNDLE_FROM:-}" ]; then
 else
   [ -s "$targets_file" ] || { echo "make-gpu-bundle: $build has no GPU executables ($targets_file is missing or empty)" >&2; exit 1; }
   arch=$(sed -n 's/^CMAKE_CUDA_ARCHITECTURES:[A-Z]*=//p' "$build/CMakeCache.txt")
+  arch=${arch:-90}  # not in the cache: CMakeLists.txt's default
   echo "== packing the GPU executables of $build as built (CUDA architectures $arch)"
 fi
 
