@@ -38,7 +38,8 @@ struct DevicePrimitiveBounds {
 
 /// Computes the DOPs and radii of all primitives, the triangles' float boxes,
 /// the scene box (inflated by thickness and rounding pad exactly as
-/// compute_primitive_bounds) and the largest radius. Waits for the stream (the box and maximum come to the host).
+/// compute_primitive_bounds) and the largest radius. Waits for the stream
+/// (the box and maximum come to the host).
 /// @param triangles  #F device triangles; edges #E device edges
 /// @param x_t0, x_t1 #V device positions (the same pointer twice for static detection)
 /// @param thickness  ≥ 0, scene units

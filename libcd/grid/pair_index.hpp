@@ -18,15 +18,21 @@ namespace snag {
 /// Number of unordered pairs of n items.
 SNAG_HD_INLINE std::uint64_t pair_count(std::uint64_t n) { return n < 2 ? 0 : n * (n - 1) / 2; }
 
-/// The cell c with first[c] <= w < first[c+1], for first[0..cells] ascending
-/// (first[0] = 0, first[cells] = total work).
-SNAG_HD_INLINE std::uint64_t cell_of_work_item(const std::uint64_t* first, std::uint64_t cells, std::uint64_t w) {
-  std::uint64_t lo = 0, hi = cells;  // answer in [lo, hi)
+/// The cell c in [lo, hi) with first[c] <= w < first[c+1], given
+/// first[lo] <= w and first[hi] > w (or hi = cells): a binary search.
+SNAG_HD_INLINE std::uint64_t cell_of_work_item_between(const std::uint64_t* first, std::uint64_t lo, std::uint64_t hi,
+                                                       std::uint64_t w) {
   while (hi - lo > 1) {
     const std::uint64_t mid = lo + (hi - lo) / 2;
     if (first[mid] <= w) lo = mid; else hi = mid;
   }
   return lo;
+}
+
+/// The cell c with first[c] <= w < first[c+1], for first[0..cells] ascending
+/// (first[0] = 0, first[cells] = total work).
+SNAG_HD_INLINE std::uint64_t cell_of_work_item(const std::uint64_t* first, std::uint64_t cells, std::uint64_t w) {
+  return cell_of_work_item_between(first, 0, cells, w);
 }
 
 /// cell_of_work_item(first, cells, w) found from a cell `from` with
@@ -41,11 +47,7 @@ SNAG_HD_INLINE std::uint64_t cell_of_work_item_from(const std::uint64_t* first, 
     step *= 2;
     hi = cells - lo > step ? lo + step : cells;
   }
-  while (hi - lo > 1) {  // answer in [lo, hi): first[hi] > w or hi = cells
-    const std::uint64_t mid = lo + (hi - lo) / 2;
-    if (first[mid] <= w) lo = mid; else hi = mid;
-  }
-  return lo;
+  return cell_of_work_item_between(first, lo, hi, w);
 }
 
 /// Pair k (0 <= k < pair_count(n)) of n items, numbered row by row:
