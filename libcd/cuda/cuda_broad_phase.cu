@@ -345,8 +345,7 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   add("pairs: registered leaves", p.registered.capacity_bytes());
   add("pairs: registered leaves' sort", p.order_keys.capacity_bytes() + p.order_keys_spare.capacity_bytes() +
                                            p.order_ids.capacity_bytes() + p.order_ids_spare.capacity_bytes());
-  add("pairs: cell tests", p.cell_tests.capacity_bytes() + p.first_test.capacity_bytes() +
-                               p.row_first.capacity_bytes());
+  add("pairs: cell tests and tiles", p.cell_test_bytes());
   add("pairs: kept test keys (chunk)", p.kept.capacity_bytes());
   add("pairs: sorted keys (chunk)", p.sorted.capacity_bytes());
   add("pairs: culled test keys", p.culled.capacity_bytes());
@@ -385,7 +384,7 @@ std::size_t CudaBroadPhase::chunk_bytes() const {
   const DevicePairs& p = buffers_->pairs;
   const DeviceFeatures& f = buffers_->features;
   return p.kept.capacity_bytes() + p.sorted.capacity_bytes() + p.pairs.capacity_bytes() +
-         p.cell_tests.capacity_bytes() + p.first_test.capacity_bytes() + p.row_first.capacity_bytes() +
+         p.cell_test_bytes() +
          f.vf_count.capacity_bytes() + f.ee_count.capacity_bytes() + f.vf_offset.capacity_bytes() +
          f.ee_offset.capacity_bytes() + f.vf_keys.capacity_bytes() + f.ee_keys.capacity_bytes() +
          f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes() + f.vf.capacity_bytes() + f.ee.capacity_bytes();

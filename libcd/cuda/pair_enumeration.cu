@@ -71,100 +71,151 @@ __device__ std::uint64_t first_with_root(const RegisteredLeaf* registered, std::
   return begin;
 }
 
-/// Tests of each cell whose smaller root lies in [lo, hi): rows i0..i1-1 of
-/// the cell's numbering, tests[c] of them from row_first[c] on; tests[cells] = 0.
+/// Tests of each cell whose smaller root lies in [lo, hi): rows [i0, i1) of
+/// the cell's numbering, tests[c] of them in tiles[c] tiles; tests[cells] =
+/// tiles[cells] = 0.
 __global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells, const RegisteredLeaf* registered,
-                                   std::uint32_t lo, std::uint32_t hi, std::uint64_t* tests,
-                                   std::uint64_t* row_first) {
+                                   std::uint32_t lo, std::uint32_t hi, std::uint64_t* tests, std::uint64_t* tiles,
+                                   std::uint64_t* row_begin, std::uint64_t* row_end) {
   const std::uint64_t c = thread_item();
   if (c > cells) return;
   if (c == cells) {
-    tests[c] = 0;
+    tests[c] = tiles[c] = 0;
     return;
   }
   const std::uint64_t begin = first[c], end = first[c + 1], n = end - begin;
   const std::uint64_t i0 = first_with_root(registered, begin, end, lo) - begin;
   const std::uint64_t i1 = first_with_root(registered, begin, end, hi) - begin;
   auto rows_before = [n](std::uint64_t i) { return i * (2 * n - i - 1) / 2; };
-  row_first[c] = rows_before(i0);
+  row_begin[c] = i0;
+  row_end[c] = i1;
   tests[c] = rows_before(i1) - rows_before(i0);
+  tiles[c] = pair_tile_count(n, i0, i1);
 }
 
 /// Buckets of the histogram of kept tests over a pass's root range.
 constexpr unsigned kHistogramBuckets = 1024;
 
-/// The tests of a chunk, one work item per thread and round: work item w
-/// finds its cell by a galloping search from the cell of the thread's last
-/// one (a thread's work items ascend by the grid's stride) and its pair by
-/// the triangular inversion (from the chunk's first row of the cell on), runs
-/// the CPU's filters in the CPU's order (the roots' DOP test after their float
-/// boxes': the same answer, see float_box.hpp), and each kept test adds one to
-/// its smaller root's bucket of the histogram over [range_first, ...) (in
-/// shared memory, added to `histogram` once per block). The grid is sized to
-/// fill the device once and strides over the work items, so the counters are
-/// summed in registers and added with one atomic per warp at the end; kept
-/// (and, with count_culled, culled) root pairs are appended with one atomic per
-/// warp and round. Every lane runs every round, so warp-wide operations see
-/// full warps.
-__global__ void test_kernel(std::uint64_t tests, const std::uint64_t* first_test, std::size_t cells,
-                            const std::uint64_t* row_first, const std::uint64_t* first,
-                            const std::uint64_t* cell_ids, const RegisteredLeaf* registered, GridSpec grid,
-                            const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::uint32_t range_first,
-                            std::uint32_t bucket_width, unsigned* histogram, std::uint64_t* kept,
-                            std::uint64_t kept_capacity, bool count_culled, std::uint64_t* culled,
-                            std::uint64_t culled_capacity, unsigned long long* counters) {
+/// 4-byte words of a registered leaf (its fields are all 4-byte words), as a
+/// block copies a run of them into shared memory.
+constexpr unsigned kLeafWords = sizeof(RegisteredLeaf) / sizeof(std::uint32_t);
+static_assert(sizeof(RegisteredLeaf) % sizeof(std::uint32_t) == 0 && alignof(RegisteredLeaf) == 4,
+              "RegisteredLeaf: copied word by word");
+
+/// A tile's run of leaves (rows or columns) in shared memory, with the float
+/// boxes of their roots.
+struct TileSide {
+  RegisteredLeaf leaves[kPairTileSide];
+  FloatBox boxes[kPairTileSide];
+};
+
+/// Copies registered[begin, begin + count) and their roots' boxes into `side`
+/// (every thread of the block takes part; the caller synchronizes after).
+__device__ void load_tile_side(const RegisteredLeaf* registered, std::uint64_t begin, unsigned count,
+                               const FloatBox* triangle_boxes, TileSide& side) {
+  const auto* from = reinterpret_cast<const std::uint32_t*>(registered + begin);
+  auto* to = reinterpret_cast<std::uint32_t*>(side.leaves);
+  for (unsigned w = threadIdx.x; w < count * kLeafWords; w += blockDim.x) to[w] = from[w];
+  for (unsigned k = threadIdx.x; k < count; k += blockDim.x) side.boxes[k] = triangle_boxes[registered[begin + k].root];
+}
+
+/// The tests of a chunk, tile by tile: each block strides over the tiles
+/// (grid/pair_index.hpp), finds a tile's cell by a galloping search from its
+/// last one (the block's tiles ascend), reads the tile's rows and columns and
+/// their roots' float boxes into shared memory, and its threads run the
+/// tile's tests, row by row, with the CPU's filters in the CPU's order (the
+/// roots' DOP test after their float boxes': the same answer, see
+/// float_box.hpp). Each kept test adds one to its smaller root's bucket of the
+/// histogram over [range_first, ...) (in shared memory, added to `histogram`
+/// once per block). Counters are summed in registers and added with one
+/// atomic per warp at the end; kept (and, with count_culled, culled) root
+/// pairs are appended with one atomic per warp and round. Every thread of the
+/// block runs every round of a tile, so warp-wide operations see full warps.
+__global__ void __launch_bounds__(detail::kBlockSize)
+    test_kernel(std::uint64_t tiles, const std::uint64_t* first_tile, std::size_t cells,
+                const std::uint64_t* row_begin, const std::uint64_t* row_end, const std::uint64_t* first,
+                const std::uint64_t* cell_ids, const RegisteredLeaf* registered, GridSpec grid,
+                const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::uint32_t range_first,
+                std::uint32_t bucket_width, unsigned* histogram, std::uint64_t* kept, std::uint64_t kept_capacity,
+                bool count_culled, std::uint64_t* culled, std::uint64_t culled_capacity,
+                unsigned long long* counters) {
   __shared__ unsigned block_histogram[kHistogramBuckets];
+  // Raw storage: shared variables take no initializers, and the records have them.
+  __shared__ alignas(alignof(TileSide)) unsigned char side_storage[2 * sizeof(TileSide)];
+  __shared__ std::uint64_t tile_cell, tile_rows[2], tile_columns[2];  // [begin, end) of each
+  TileSide& rows = *reinterpret_cast<TileSide*>(side_storage);
+  TileSide& columns = *reinterpret_cast<TileSide*>(side_storage + sizeof(TileSide));
   for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
-  __syncthreads();
+  if (threadIdx.x == 0) tile_cell = 0;
   unsigned same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culls = 0;
-  const std::uint64_t stride = static_cast<std::uint64_t>(gridDim.x) * blockDim.x;
-  std::uint64_t c = 0;  // the cell of this thread's last work item (first_test[c] <= w)
-  for (std::uint64_t base = static_cast<std::uint64_t>(blockIdx.x) * blockDim.x; base < tests; base += stride) {
-    const std::uint64_t w = base + threadIdx.x;
-    bool keep = false, cull = false;
-    std::uint64_t key = 0;
-    if (w < tests) {
-      c = cell_of_work_item_from(first_test, cells, c, w);
-      const std::uint64_t n = first[c + 1] - first[c];
-      std::uint64_t i = 0, j = 0;
-      pair_from_index(n, w - first_test[c] + row_first[c], i, j);
-      const RegisteredLeaf& a = registered[first[c] + i];
-      const RegisteredLeaf& b = registered[first[c] + j];
-      const Index ra = a.root, rb = b.root;
-      const Index low = ra < rb ? ra : rb;
-      if (ra == rb) {
-        ++same_root;
-      } else if (!slots_nested(a, b)) {
-        ++time_slots;
-      } else {
-        switch (cell_pair_verdict(grid, a.cells, b.cells, cell_ids[c])) {
-          case CellPairVerdict::kSkipControlBits: ++control_bits; break;
-          case CellPairVerdict::kSkipExtendedBits: ++extended; break;
-          case CellPairVerdict::kTestFallback: ++fallback; [[fallthrough]];
-          case CellPairVerdict::kTest: {
-            ++passed;
-            key = pack_pair(ra, rb);
-            // The float boxes first (24 bytes each, most pairs apart there);
-            // the DOPs (144 bytes each) only where the boxes meet.
-            if (float_boxes_may_overlap(triangle_boxes[ra], triangle_boxes[rb]) &&
-                dop_overlap(triangle_dops[ra], triangle_dops[rb])) {
-              keep = true;
-              atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
-            } else {
-              cull = true;
+  for (std::uint64_t t = blockIdx.x; t < tiles; t += gridDim.x) {
+    __syncthreads();  // the last tile's shared data is read by all
+    if (threadIdx.x == 0) {
+      const std::uint64_t c = cell_of_work_item_from(first_tile, cells, tile_cell, t);
+      tile_cell = c;
+      const PairTile tile = pair_tile(first[c + 1] - first[c], row_begin[c], row_end[c], t - first_tile[c]);
+      tile_rows[0] = tile.row_begin;
+      tile_rows[1] = tile.row_end;
+      tile_columns[0] = tile.column_begin;
+      tile_columns[1] = tile.column_end;
+    }
+    __syncthreads();
+    const std::uint64_t c = tile_cell, cell_first = first[c];
+    const auto row_count = static_cast<unsigned>(tile_rows[1] - tile_rows[0]);
+    const auto column_count = static_cast<unsigned>(tile_columns[1] - tile_columns[0]);
+    // Test (row, column) of the tile is the pair i < j of the cell where
+    // j - i = offset + column - row (the offset is negative in a diagonal
+    // tile whose first rows the chunk leaves out).
+    const auto offset = static_cast<std::int64_t>(tile_columns[0]) - static_cast<std::int64_t>(tile_rows[0]);
+    load_tile_side(registered, cell_first + tile_rows[0], row_count, triangle_boxes, rows);
+    load_tile_side(registered, cell_first + tile_columns[0], column_count, triangle_boxes, columns);
+    __syncthreads();
+    const std::uint64_t cell_id = cell_ids[c];
+    const unsigned slots = row_count * column_count;
+    for (unsigned base = 0; base < slots; base += blockDim.x) {
+      const unsigned s = base + threadIdx.x;
+      bool keep = false, cull = false;
+      std::uint64_t key = 0;
+      const unsigned row = s / column_count, column = s - row * column_count;
+      if (s < slots && offset + column > row) {  // i < j
+        const RegisteredLeaf& a = rows.leaves[row];
+        const RegisteredLeaf& b = columns.leaves[column];
+        const Index ra = a.root, rb = b.root;
+        const Index low = ra < rb ? ra : rb;
+        if (ra == rb) {
+          ++same_root;
+        } else if (!slots_nested(a, b)) {
+          ++time_slots;
+        } else {
+          switch (cell_pair_verdict(grid, a.cells, b.cells, cell_id)) {
+            case CellPairVerdict::kSkipControlBits: ++control_bits; break;
+            case CellPairVerdict::kSkipExtendedBits: ++extended; break;
+            case CellPairVerdict::kTestFallback: ++fallback; [[fallthrough]];
+            case CellPairVerdict::kTest: {
+              ++passed;
+              key = pack_pair(ra, rb);
+              // The float boxes first (in shared memory, most pairs apart
+              // there); the DOPs (144 bytes each) only where the boxes meet.
+              if (float_boxes_may_overlap(rows.boxes[row], columns.boxes[column]) &&
+                  dop_overlap(triangle_dops[ra], triangle_dops[rb])) {
+                keep = true;
+                atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
+              } else {
+                cull = true;
+              }
+              break;
             }
-            break;
           }
         }
       }
-    }
-    const unsigned long long kept_slot = detail::warp_append(keep, &counters[kKept]);
-    if (keep && kept_slot < kept_capacity) kept[kept_slot] = key;
-    if (count_culled) {
-      const unsigned long long culled_slot = detail::warp_append(cull, &counters[kCulled]);
-      if (cull && culled_slot < culled_capacity) culled[culled_slot] = key;
-    } else {
-      culls += cull ? 1 : 0;
+      const unsigned long long kept_slot = detail::warp_append(keep, &counters[kKept]);
+      if (keep && kept_slot < kept_capacity) kept[kept_slot] = key;
+      if (count_culled) {
+        const unsigned long long culled_slot = detail::warp_append(cull, &counters[kCulled]);
+        if (cull && culled_slot < culled_capacity) culled[culled_slot] = key;
+      } else {
+        culls += cull ? 1 : 0;
+      }
     }
   }
   detail::warp_count(same_root, &counters[kSameRoot]);
@@ -300,29 +351,40 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
   p.histogram.resize(kHistogramBuckets);
   p.cell_tests.resize(cells + 1);
   p.first_test.resize(cells + 1);
-  p.row_first.resize(cells + 1);
+  p.cell_tiles.resize(cells + 1);
+  p.first_tile.resize(cells + 1);
+  p.row_begin.resize(cells + 1);
+  p.row_end.resize(cells + 1);
 
-  // The tests of the cells whose smaller root lies in `range`, numbered
-  // cell by cell (first_test); returns their count.
+  // The tests and tiles of the cells whose smaller root lies in `range`,
+  // numbered cell by cell (first_test, first_tile); returns their counts.
+  struct Numbered {
+    std::uint64_t tests = 0, tiles = 0;
+  };
+  auto exclusive_sum = [&](const std::uint64_t* in, std::uint64_t* out) {
+    std::size_t bytes = 0;
+    SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, cells + 1, stream));
+    ensure(p.temp, bytes);
+    bytes = p.temp.size();
+    SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(p.temp.data(), bytes, in, out, cells + 1, stream));
+  };
   auto number_tests = [&](RootRange range) {
     chunk_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
         lists.first.data(), cells, p.registered.data(), range.first, range.end, p.cell_tests.data(),
-        p.row_first.data());
+        p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
-    std::size_t bytes = 0;
-    SNAG_CUDA_CHECK(
-        cub::DeviceScan::ExclusiveSum(nullptr, bytes, p.cell_tests.data(), p.first_test.data(), cells + 1, stream));
-    ensure(p.temp, bytes);
-    bytes = p.temp.size();
-    SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(p.temp.data(), bytes, p.cell_tests.data(), p.first_test.data(),
-                                                  cells + 1, stream));
-    std::uint64_t tests = 0;
-    SNAG_CUDA_CHECK(
-        cudaMemcpyAsync(&tests, p.first_test.data() + cells, sizeof(tests), cudaMemcpyDeviceToHost, stream));
+    exclusive_sum(p.cell_tests.data(), p.first_test.data());
+    exclusive_sum(p.cell_tiles.data(), p.first_tile.data());
+    Numbered counts;
+    SNAG_CUDA_CHECK(cudaMemcpyAsync(&counts.tests, p.first_test.data() + cells, sizeof(std::uint64_t),
+                                    cudaMemcpyDeviceToHost, stream));
+    SNAG_CUDA_CHECK(cudaMemcpyAsync(&counts.tiles, p.first_tile.data() + cells, sizeof(std::uint64_t),
+                                    cudaMemcpyDeviceToHost, stream));
     SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
-    return tests;
+    return counts;
   };
-  const std::uint64_t all_tests = number_tests({0, triangle_end});
+  const Numbered whole_set = number_tests({0, triangle_end});
+  const std::uint64_t all_tests = whole_set.tests;
   stats.tests = all_tests;
 
   // The key room of this call; buffers a larger room left are given back.
@@ -340,8 +402,10 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
   SNAG_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
   SNAG_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, test_kernel, detail::kBlockSize, 0));
   const auto resident_blocks = static_cast<std::uint64_t>(std::max(1, sms * std::max(1, per_sm)));
-  // A warp's per-thread counts are summed in 32 bits: at most 2^27 rounds.
-  if (all_tests / (resident_blocks * detail::kBlockSize) >= (std::uint64_t{1} << 27))
+  // A warp's per-thread counts are summed in 32 bits: at most 2^27 rounds, a
+  // tile's rounds at most kPairTileSide² / kBlockSize.
+  const std::uint64_t rounds_per_tile = (kPairTileSide * kPairTileSide + detail::kBlockSize - 1) / detail::kBlockSize;
+  if ((whole_set.tiles / resident_blocks + 1) * rounds_per_tile >= (std::uint64_t{1} << 27))
     throw CudaError("broad phase: too many pair tests for one launch", 0);
 
   unsigned long long totals[kCounters] = {};
@@ -351,18 +415,19 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
   double seconds = 0;
   std::size_t culled_room =
       count_culled ? std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(all_tests, 1 << 18)) : 0;
-  RootRange numbered{0, triangle_end};  // the range first_test numbers now, and its tests
-  std::uint64_t range_tests = all_tests;
+  RootRange numbered_range{0, triangle_end};  // the range first_test and first_tile number now
+  Numbered range_counts = whole_set;          // and its tests and tiles
   while (!todo.empty()) {
     const RootRange range = todo.front();
     const std::uint32_t bucket_width =
         std::max<std::uint32_t>(1, (range.end - range.first + kHistogramBuckets - 1) / kHistogramBuckets);
     CudaEvent start, done;
     start.record(stream);
-    if (range.first != numbered.first || range.end != numbered.end) {
-      range_tests = number_tests(range);
-      numbered = range;
+    if (range.first != numbered_range.first || range.end != numbered_range.end) {
+      range_counts = number_tests(range);
+      numbered_range = range;
     }
+    const std::uint64_t range_tests = range_counts.tests;
     // Room: for the whole set what the last pass needed, at least a share of
     // the tests; for a planned or split range all of key_room (it was sized
     // to hold it); never more than key_room or the range's tests.
@@ -377,10 +442,10 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
     p.histogram.fill_zero();
     unsigned long long counts[kCounters] = {};
     if (range_tests > 0) {
-      const std::uint64_t blocks = std::min<std::uint64_t>(
-          (range_tests + detail::kBlockSize - 1) / detail::kBlockSize, resident_blocks);
+      const std::uint64_t blocks = std::min<std::uint64_t>(range_counts.tiles, resident_blocks);
       test_kernel<<<static_cast<unsigned>(blocks), detail::kBlockSize, 0, stream>>>(
-          range_tests, p.first_test.data(), cells, p.row_first.data(), lists.first.data(), lists.cell_ids.data(),
+          range_counts.tiles, p.first_tile.data(), cells, p.row_begin.data(), p.row_end.data(), lists.first.data(),
+          lists.cell_ids.data(),
           p.registered.data(), grid, triangle_dops, triangle_boxes, range.first, bucket_width, p.histogram.data(),
           p.kept.data(), kept_room, count_culled, p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();

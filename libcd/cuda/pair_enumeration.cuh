@@ -1,12 +1,13 @@
-// One candidate test per thread on the GPU, mirroring step 5-6 of
-// libcd/broad_phase/virtual_subdivision_grid.cpp: per-cell pair counts are
-// prefix-summed, each thread finds its cell by binary search (among the few
-// cells its block spans, which one thread of the block finds first) and its
-// pair by inverting the triangular numbering (grid/pair_index.hpp), reads the
-// two leaves from a copy of them in cell order (coalesced), applies the same
-// filters (same root, time slots, control bits and extended control bits,
-// root 18-DOPs), and appends the root pair; a device sort + unique gives the
-// exact set of triangle pairs, ordered as the CPU's.
+// The candidate tests on the GPU, mirroring step 5-6 of
+// libcd/broad_phase/virtual_subdivision_grid.cpp: each cell's tests are cut
+// into square tiles (grid/pair_index.hpp) whose per-cell counts are
+// prefix-summed; a block finds its tile's cell from the sums, reads the
+// tile's two runs of leaves (from a copy of them in cell order, coalesced)
+// and their roots' float boxes into shared memory once, and its threads run
+// the tile's tests from there with the same filters as the CPU (same root,
+// time slots, control bits and extended control bits, root 18-DOPs),
+// appending the root pairs; a device sort + unique gives the exact set of
+// triangle pairs, ordered as the CPU's.
 #pragma once
 
 #include <cuda_runtime_api.h>
@@ -28,7 +29,9 @@ struct DevicePairs {
   DeviceBuffer<RegisteredLeaf> registered;  ///< cell by cell, each cell's by root triangle
   DeviceBuffer<std::uint64_t> order_keys, order_keys_spare;  ///< the registrations' sort
   DeviceBuffer<std::uint32_t> order_ids, order_ids_spare;
-  DeviceBuffer<std::uint64_t> cell_tests, first_test, row_first;  ///< a chunk's tests per cell
+  DeviceBuffer<std::uint64_t> cell_tests, first_test;  ///< a chunk's tests per cell, and their sum before it
+  DeviceBuffer<std::uint64_t> cell_tiles, first_tile;  ///< a chunk's tiles per cell (grid/pair_index.hpp)
+  DeviceBuffer<std::uint64_t> row_begin, row_end;      ///< a chunk's rows [begin, end) of each cell
   DeviceBuffer<std::uint64_t> kept, culled, sorted;  ///< kept and sorted: the sort's two halves
   DeviceBuffer<TrianglePair> pairs;  ///< the result of a chunk: unique root pairs, ascending
   DeviceBuffer<unsigned long long> counters;
@@ -37,9 +40,16 @@ struct DevicePairs {
 
   explicit DevicePairs(cudaStream_t stream)
       : registered(0, stream), order_keys(0, stream), order_keys_spare(0, stream), order_ids(0, stream),
-        order_ids_spare(0, stream), cell_tests(0, stream), first_test(0, stream), row_first(0, stream),
+        order_ids_spare(0, stream), cell_tests(0, stream), first_test(0, stream), cell_tiles(0, stream),
+        first_tile(0, stream), row_begin(0, stream), row_end(0, stream),
         kept(0, stream), culled(0, stream),
         sorted(0, stream), pairs(0, stream), counters(0, stream), histogram(0, stream), temp(0, stream) {}
+
+  /// Bytes of the per-cell numbering of a chunk's tests and tiles.
+  std::size_t cell_test_bytes() const {
+    return cell_tests.capacity_bytes() + first_test.capacity_bytes() + cell_tiles.capacity_bytes() +
+           first_tile.capacity_bytes() + row_begin.capacity_bytes() + row_end.capacity_bytes();
+  }
 };
 
 /// Device bytes per kept test of a chunk: its key, the sort's second half,

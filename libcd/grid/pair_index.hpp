@@ -66,4 +66,46 @@ SNAG_HD_INLINE void pair_from_index(std::uint64_t n, std::uint64_t k, std::uint6
   j = k - rows_before(row) + row + 1;
 }
 
+/// Square tiles of a cell's tests, for the GPU's pair tests: the rows
+/// [i0, i1) of n items' row-by-row numbering (the pairs i < j with i0 <= i <
+/// i1) cut at multiples of kPairTileSide, rows and columns alike. Row tile I
+/// meets the column tiles I, I + 1, ..., the last: a block of threads reads a
+/// tile's rows and columns once and runs every test between them, instead of
+/// reading two items per test. Rows from n - 1 on hold no pairs and make no tiles.
+constexpr std::uint64_t kPairTileSide = 64;
+
+/// The items of one tile: rows [row_begin, row_end), columns [column_begin,
+/// column_end); its tests are the pairs (i, j) of the two with i < j.
+struct PairTile {
+  std::uint64_t row_begin = 0, row_end = 0, column_begin = 0, column_end = 0;
+};
+
+/// Tiles of the rows [i0, i1) of n items (i0 <= i1 <= n).
+SNAG_HD_INLINE std::uint64_t pair_tile_count(std::uint64_t n, std::uint64_t i0, std::uint64_t i1) {
+  if (n < 2 || i1 > n - 1) i1 = n < 2 ? 0 : n - 1;
+  if (i0 >= i1) return 0;
+  // Row tiles first..last; row tile first + k meets m - k column tiles, m
+  // those of the first, so the tiles are numbered as the pairs of m + 1 items.
+  const std::uint64_t first = i0 / kPairTileSide, last = (i1 - 1) / kPairTileSide;
+  const std::uint64_t m = (n + kPairTileSide - 1) / kPairTileSide - first;
+  return pair_count(m + 1) - pair_count(m + 1 - (last - first + 1));
+}
+
+/// Tile t (0 <= t < pair_tile_count(n, i0, i1)) of the rows [i0, i1) of n
+/// items, row tile by row tile and each row tile's by column tile.
+SNAG_HD_INLINE PairTile pair_tile(std::uint64_t n, std::uint64_t i0, std::uint64_t i1, std::uint64_t t) {
+  if (i1 > n - 1) i1 = n - 1;
+  const std::uint64_t first = i0 / kPairTileSide;
+  const std::uint64_t m = (n + kPairTileSide - 1) / kPairTileSide - first;
+  std::uint64_t k = 0, j = 0;
+  pair_from_index(m + 1, t, k, j);  // row tile first + k, column tile first + j - 1
+  const std::uint64_t row_tile = first + k, column_tile = first + j - 1;
+  PairTile tile;
+  tile.row_begin = row_tile * kPairTileSide > i0 ? row_tile * kPairTileSide : i0;
+  tile.row_end = (row_tile + 1) * kPairTileSide < i1 ? (row_tile + 1) * kPairTileSide : i1;
+  tile.column_begin = column_tile * kPairTileSide;
+  tile.column_end = (column_tile + 1) * kPairTileSide < n ? (column_tile + 1) * kPairTileSide : n;
+  return tile;
+}
+
 }  // namespace snag

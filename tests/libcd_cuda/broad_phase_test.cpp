@@ -1,8 +1,8 @@
 // The GPU broad phase (libcd/cuda/cuda_broad_phase) against its oracle, the
 // CPU VirtualSubdivisionGrid: the same sorted VF, EE and triangle-pair vectors
 // and the same counts, on random soups with very uneven triangles, fast movers
-// forcing time halving, thickness > 0, the samples, and the reference frames
-// cloth_ball92 -> 93. Also: the exact radius sum does not depend on order.
+// forcing time halving, thickness > 0, crowded cells (whole and in chunks), the
+// samples, and the reference frames cloth_ball92 -> 93. Also: the exact radius sum does not depend on order.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,7 +15,9 @@
 #include "io/open_cache.hpp"
 #include "libcd/broad_phase/virtual_subdivision_grid.hpp"
 #include "libcd/core/error.hpp"
+#include "libcd/cuda/cuda_broad_phase.cuh"
 #include "libcd/cuda/cuda_broad_phase.hpp"
+#include "libcd/grid/pair_index.hpp"
 #include "libcd/grid/cell_size.hpp"
 #include "libcd/grid/radius_sum.hpp"
 #include "ply_mesh.hpp"
@@ -221,6 +223,52 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuWithThicknessAndSafetyLimits) {
   settings.max_time_halvings = 1;
   settings.lambda = 1.05;
   expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, settings);
+}
+
+// n triangles of one size crowded into a unit cube, drifting a little: cells
+// of hundreds of leaves, so each cell's tests span many tiles
+// (grid/pair_index.hpp), tiles cut by the chunks' row ranges included.
+Soup crowded_soup(unsigned seed, int n) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> where(0, 1), corner(-0.1, 0.1), drift(-0.02, 0.02);
+  Soup soup;
+  std::vector<Triangle> triangles;
+  for (Index t = 0; t < n; ++t) {
+    const Vec3 center{where(rng), where(rng), where(rng)};
+    const Vec3 move{drift(rng), drift(rng), drift(rng)};
+    for (int k = 0; k < 3; ++k) {
+      soup.x_t0.push_back(center + Vec3{corner(rng), corner(rng), corner(rng)});
+      soup.x_t1.push_back(soup.x_t0.back() + move);
+    }
+    triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  soup.scene = Scene({make_object("crowd", static_cast<Index>(soup.x_t0.size()), triangles)});
+  return soup;
+}
+
+TEST_F(CudaBroadPhaseTest, MatchesCpuWhereCellsHoldManyTiles) {
+  const Soup soup = crowded_soup(31, 6000);
+  VirtualSubdivisionGrid probe(true);
+  probe.build(soup.scene, {});
+  std::vector<VertexFaceCandidate> vf;
+  std::vector<EdgeEdgeCandidate> ee;
+  probe.detect_ccd(soup.x_t0, soup.x_t1, vf, ee);
+  const BroadPhaseStats& crowd = probe.stats();
+  ASSERT_GT(crowd.registrations, 3 * kPairTileSide * crowd.cells_used) << "cells must span several tiles";
+  expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, {});
+
+  // In chunks of a few percent of the kept tests: row ranges start and end
+  // inside tiles, the same candidates and counts.
+  auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  chunked->build(soup.scene, {});
+  chunked->set_chunk_rooms(crowd.triangle_pairs / 25 + 8, vf.size() + ee.size() + 16);
+  std::vector<VertexFaceCandidate> vf_chunked;
+  std::vector<EdgeEdgeCandidate> ee_chunked;
+  chunked->detect_ccd(soup.x_t0, soup.x_t1, vf_chunked, ee_chunked);
+  EXPECT_GT(chunked->last_chunks(), 10u);
+  EXPECT_EQ(vf_chunked, vf);
+  EXPECT_EQ(ee_chunked, ee);
+  expect_same_counts(crowd, chunked->stats());
 }
 
 TEST_F(CudaBroadPhaseTest, MatchesCpuOnSamples) {

@@ -2,9 +2,11 @@
 // the cell pair rule, registration with home priority.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <random>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "libcd/grid/cell_size.hpp"
@@ -97,6 +99,44 @@ TEST(PairIndex, GallopingFromAnEarlierCellFindsTheCellOfTheBinarySearch) {
       ASSERT_EQ(c, cell_of_work_item(first.data(), cells, w)) << "trial " << trial << " w " << w;
     }
   }
+}
+
+TEST(PairIndex, TilesHoldEachTestOfTheirRowsOnce) {
+  // Every row range of cells from 0 to a few tiles wide, edges on and off the
+  // tile side: the tiles' pairs i < j are exactly those with i in [i0, i1).
+  const std::uint64_t side = kPairTileSide;
+  const std::uint64_t ns[] = {0, 1, 2, 3, side - 1, side, side + 1, 2 * side, 3 * side + 5, 7 * side - 1};
+  std::mt19937 rng(5);
+  for (std::uint64_t n : ns) {
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges = {{0, n}, {n, n}};
+    for (int r = 0; r < 40 && n > 0; ++r) {
+      const std::uint64_t a = rng() % (n + 1), b = rng() % (n + 1);
+      ranges.push_back({std::min(a, b), std::max(a, b)});
+    }
+    if (n > side) ranges.push_back({side - 1, side + 1});
+    for (const auto& [i0, i1] : ranges) {
+      std::vector<int> seen(n * n, 0);
+      const std::uint64_t tiles = pair_tile_count(n, i0, i1);
+      for (std::uint64_t t = 0; t < tiles; ++t) {
+        const PairTile tile = pair_tile(n, i0, i1, t);
+        ASSERT_LE(tile.row_end - tile.row_begin, side);
+        ASSERT_LE(tile.column_end - tile.column_begin, side);
+        ASSERT_LT(tile.row_begin, tile.row_end);
+        ASSERT_LE(tile.row_begin, tile.column_begin + side - 1) << "no column of the tile lies right of a row";
+        for (std::uint64_t i = tile.row_begin; i < tile.row_end; ++i)
+          for (std::uint64_t j = std::max(tile.column_begin, i + 1); j < tile.column_end; ++j) ++seen[i * n + j];
+      }
+      for (std::uint64_t i = 0; i < n; ++i)
+        for (std::uint64_t j = 0; j < n; ++j)
+          ASSERT_EQ(seen[i * n + j], i0 <= i && i < i1 && i < j ? 1 : 0)
+              << "n " << n << " rows [" << i0 << ", " << i1 << ") pair " << i << ", " << j;
+    }
+  }
+  // A cell of 200M items: the closed form's rounding is corrected at its last tile.
+  const std::uint64_t big = 200000000, tiles = pair_tile_count(big, 0, big);
+  const PairTile last = pair_tile(big, 0, big, tiles - 1);
+  EXPECT_EQ(last.column_end, big);
+  EXPECT_EQ(last.row_begin, (big - 2) / side * side);
 }
 
 LeafCells random_leaf(std::mt19937& rng) {
