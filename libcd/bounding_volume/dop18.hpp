@@ -79,12 +79,13 @@ SNAG_HD_INLINE Dop18 dop_of_points(const Vec3* points, int n, double pad, double
   return dop;
 }
 
-/// True when the two DOPs share a point in every slab (closed slabs).
+/// True when the two DOPs share a point in every slab (closed slabs). Every
+/// slab is compared, without an early exit: the loads of all of them can be
+/// in flight at once (on a GPU, one wait for memory instead of one per slab).
 SNAG_HD_INLINE bool dop_overlap(const Dop18& a, const Dop18& b) {
-  for (int k = 0; k < kDopAxes; ++k) {
-    if (a.lo[k] > b.hi[k] || b.lo[k] > a.hi[k]) return false;
-  }
-  return true;
+  bool apart = false;
+  for (int k = 0; k < kDopAxes; ++k) apart |= (a.lo[k] > b.hi[k]) | (b.lo[k] > a.hi[k]);
+  return !apart;
 }
 
 /// True when p lies in every slab of the DOP.

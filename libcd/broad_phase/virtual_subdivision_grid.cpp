@@ -161,6 +161,9 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
     }
   });
 
+  std::vector<CellCoord> cell_coords(cells);
+  for (std::size_t c = 0; c < cells; ++c) cell_coords[c] = grid_cell_coord(grid_, lists.cell_ids[c]);
+
   const bool count_culled = settings_.count_culled_duplicates;
   auto members = [&](std::uint64_t c) { return lists.first[c + 1] - lists.first[c]; };
   auto test = [&](std::uint64_t c, std::uint64_t i, std::uint64_t j, PairCounts& counts,
@@ -168,7 +171,7 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
     const RegisteredLeaf& a = registered[lists.first[c] + i];
     const RegisteredLeaf& b = registered[lists.first[c] + j];
     if (!leaves_may_meet(a, b, counts)) return;
-    switch (cell_pair_verdict(grid_, a.cells, b.cells, lists.cell_ids[c])) {
+    switch (cell_pair_verdict(a.cells, b.cells, cell_coords[c])) {
       case CellPairVerdict::kSkipControlBits: ++counts.control_bits; return;
       case CellPairVerdict::kSkipExtendedBits: ++counts.extended; return;
       case CellPairVerdict::kTestFallback: ++counts.fallback; break;
@@ -183,7 +186,7 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
   out.seconds = seconds_since(t);
   out.memory_bytes = reg.registrations * 16 + lists.leaves.capacity() * 4 + lists.cell_ids.capacity() * 8 +
                      lists.first.capacity() * 8 + first_test.capacity() * 8 +
-                     registered.capacity() * sizeof(RegisteredLeaf);
+                     registered.capacity() * sizeof(RegisteredLeaf) + cell_coords.capacity() * sizeof(CellCoord);
   return out;
 }
 

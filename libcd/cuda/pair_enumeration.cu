@@ -143,6 +143,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
   // Raw storage: shared variables take no initializers, and the records have them.
   __shared__ alignas(alignof(TileSide)) unsigned char side_storage[2 * sizeof(TileSide)];
   __shared__ std::uint64_t tile_cell, tile_rows[2], tile_columns[2];  // [begin, end) of each
+  __shared__ std::int32_t tile_cell_coord[3];
   TileSide& rows = *reinterpret_cast<TileSide*>(side_storage);
   TileSide& columns = *reinterpret_cast<TileSide*>(side_storage + sizeof(TileSide));
   for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
@@ -153,6 +154,10 @@ __global__ void __launch_bounds__(detail::kBlockSize)
     if (threadIdx.x == 0) {
       const std::uint64_t c = cell_of_work_item_from(first_tile, cells, tile_cell, t);
       tile_cell = c;
+      const CellCoord coord = grid_cell_coord(grid, cell_ids[c]);
+      tile_cell_coord[0] = coord.x;
+      tile_cell_coord[1] = coord.y;
+      tile_cell_coord[2] = coord.z;
       const PairTile tile = pair_tile(first[c + 1] - first[c], row_begin[c], row_end[c], t - first_tile[c]);
       tile_rows[0] = tile.row_begin;
       tile_rows[1] = tile.row_end;
@@ -170,13 +175,16 @@ __global__ void __launch_bounds__(detail::kBlockSize)
     load_tile_side(registered, cell_first + tile_rows[0], row_count, triangle_boxes, rows);
     load_tile_side(registered, cell_first + tile_columns[0], column_count, triangle_boxes, columns);
     __syncthreads();
-    const std::uint64_t cell_id = cell_ids[c];
+    const CellCoord cell{tile_cell_coord[0], tile_cell_coord[1], tile_cell_coord[2]};
+    // Slot s = row * column_count + column; each round moves it on by the
+    // block's size, stepped without dividing.
     const unsigned slots = row_count * column_count;
+    const unsigned row_step = blockDim.x / column_count, column_step = blockDim.x % column_count;
+    unsigned row = threadIdx.x / column_count, column = threadIdx.x % column_count;
     for (unsigned base = 0; base < slots; base += blockDim.x) {
       const unsigned s = base + threadIdx.x;
       bool keep = false, cull = false;
       std::uint64_t key = 0;
-      const unsigned row = s / column_count, column = s - row * column_count;
       if (s < slots && offset + column > row) {  // i < j
         const RegisteredLeaf& a = rows.leaves[row];
         const RegisteredLeaf& b = columns.leaves[column];
@@ -187,7 +195,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
         } else if (!slots_nested(a, b)) {
           ++time_slots;
         } else {
-          switch (cell_pair_verdict(grid, a.cells, b.cells, cell_id)) {
+          switch (cell_pair_verdict(a.cells, b.cells, cell)) {
             case CellPairVerdict::kSkipControlBits: ++control_bits; break;
             case CellPairVerdict::kSkipExtendedBits: ++extended; break;
             case CellPairVerdict::kTestFallback: ++fallback; [[fallthrough]];
@@ -215,6 +223,12 @@ __global__ void __launch_bounds__(detail::kBlockSize)
         if (cull && culled_slot < culled_capacity) culled[culled_slot] = key;
       } else {
         culls += cull ? 1 : 0;
+      }
+      row += row_step;
+      column += column_step;
+      if (column >= column_count) {
+        column -= column_count;
+        ++row;
       }
     }
   }

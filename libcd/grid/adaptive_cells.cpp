@@ -32,12 +32,6 @@ std::vector<Registration> register_in_grid(const std::vector<FineBlock>& blocks,
   return regs;
 }
 
-CellCoord grid_cell_coord(const GridSpec& grid, std::uint64_t id) {
-  const std::uint64_t nx = static_cast<std::uint64_t>(grid.dims[0]), ny = static_cast<std::uint64_t>(grid.dims[1]);
-  return {static_cast<std::int32_t>(id % nx), static_cast<std::int32_t>((id / nx) % ny),
-          static_cast<std::int32_t>(id / (nx * ny))};
-}
-
 /// True when the block spans at most two cells on every axis.
 bool fits_two_per_axis(const CellBlock& b) {
   return b.hi.x - b.lo.x <= 1 && b.hi.y - b.lo.y <= 1 && b.hi.z - b.lo.z <= 1;

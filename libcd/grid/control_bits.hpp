@@ -88,39 +88,38 @@ enum class CellPairVerdict : std::uint8_t {
   kSkipExtendedBits,      ///< tested elsewhere: the smallest cell of R is a sibling's home only
 };
 
-/// The test rule above for leaves a and b, both registered in the cell of id cell_id.
-SNAG_HD_INLINE CellPairVerdict cell_pair_verdict(const GridSpec& grid, const LeafCells& a, const LeafCells& b,
-                                                 std::uint64_t cell_id) {
-  std::uint64_t best = ~std::uint64_t(0);
-  bool best_is_own_home = false;
-  const LeafCells* sides[2] = {&a, &b};
-  for (int s = 0; s < 2; ++s) {
-    const LeafCells& self = *sides[s];
-    const LeafCells& other = *sides[1 - s];
-    if (leaf_overlaps_cell(other, self.home)) {
-      const std::uint64_t id = grid_cell_id(grid, self.home);
-      if (id < best || (id == best && !best_is_own_home)) {
-        best = id;
-        best_is_own_home = true;
+/// The test rule above for leaves a and b, both registered in `cell`. Cells
+/// are ordered by id (cell_precedes: the grid is not needed); a sibling's home
+/// loops over all three slots with the count as a condition, which a GPU warp
+/// runs without diverging on the count.
+SNAG_HD_INLINE CellPairVerdict cell_pair_verdict(const LeafCells& a, const LeafCells& b, CellCoord cell) {
+  bool found = false, best_is_own_home = false;
+  CellCoord best;
+  auto consider_side = [&](const LeafCells& self, const LeafCells& other) {
+    if (leaf_overlaps_cell(other, self.home) &&
+        (!found || cell_precedes(self.home, best) || (self.home == best && !best_is_own_home))) {
+      best = self.home;
+      best_is_own_home = true;
+      found = true;
+    }
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      if (k < self.sibling_count && leaf_overlaps_cell(other, self.sibling_home[k]) &&
+          (!found || cell_precedes(self.sibling_home[k], best))) {
+        best = self.sibling_home[k];
+        best_is_own_home = false;
+        found = true;
       }
     }
-    for (std::uint32_t k = 0; k < self.sibling_count; ++k) {
-      if (leaf_overlaps_cell(other, self.sibling_home[k])) {
-        const std::uint64_t id = grid_cell_id(grid, self.sibling_home[k]);
-        if (id < best) {
-          best = id;
-          best_is_own_home = false;
-        }
-      }
-    }
-  }
-  if (best == ~std::uint64_t(0)) {
+  };
+  consider_side(a, b);
+  consider_side(b, a);
+  if (!found) {
     const CellCoord corner{a.block.lo.x > b.block.lo.x ? a.block.lo.x : b.block.lo.x,
                            a.block.lo.y > b.block.lo.y ? a.block.lo.y : b.block.lo.y,
                            a.block.lo.z > b.block.lo.z ? a.block.lo.z : b.block.lo.z};
-    return grid_cell_id(grid, corner) == cell_id ? CellPairVerdict::kTestFallback : CellPairVerdict::kSkipControlBits;
+    return corner == cell ? CellPairVerdict::kTestFallback : CellPairVerdict::kSkipControlBits;
   }
-  if (best == cell_id) return CellPairVerdict::kTest;
+  if (best == cell) return CellPairVerdict::kTest;
   return best_is_own_home ? CellPairVerdict::kSkipControlBits : CellPairVerdict::kSkipExtendedBits;
 }
 

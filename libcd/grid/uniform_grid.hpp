@@ -47,6 +47,21 @@ SNAG_HD_INLINE std::uint64_t grid_cell_id(const GridSpec& grid, CellCoord c) {
          static_cast<std::uint64_t>(c.x);
 }
 
+/// The cell of a linear id (grid_cell_id's inverse).
+SNAG_HD_INLINE CellCoord grid_cell_coord(const GridSpec& grid, std::uint64_t id) {
+  const auto nx = static_cast<std::uint64_t>(grid.dims[0]), ny = static_cast<std::uint64_t>(grid.dims[1]);
+  return {static_cast<std::int32_t>(id % nx), static_cast<std::int32_t>((id / nx) % ny),
+          static_cast<std::int32_t>(id / (nx * ny))};
+}
+
+/// grid_cell_id(grid, a) < grid_cell_id(grid, b) for two cells of a grid
+/// (coordinates in [0, dims)), without the grid: ids order cells by (z, y, x).
+SNAG_HD_INLINE bool cell_precedes(CellCoord a, CellCoord b) {
+  if (a.z != b.z) return a.z < b.z;
+  if (a.y != b.y) return a.y < b.y;
+  return a.x < b.x;
+}
+
 /// Cell type: parity bits x | y<<1 | z<<2, in 0..7.
 SNAG_HD_INLINE unsigned cell_type(CellCoord c) {
   return static_cast<unsigned>((c.x & 1) | ((c.y & 1) << 1) | ((c.z & 1) << 2));

@@ -149,6 +149,70 @@ LeafCells random_leaf(std::mt19937& rng) {
   return leaf;
 }
 
+TEST(UniformGrid, CellOrderAndCoordinatesFollowTheIds) {
+  const GridSpec grid = make_grid({0, 0, 0}, {7, 3, 5}, 1.0);  // about 7 x 3 x 5 cells
+  std::vector<CellCoord> cells;
+  for (std::int32_t z = 0; z < grid.dims[2]; ++z)
+    for (std::int32_t y = 0; y < grid.dims[1]; ++y)
+      for (std::int32_t x = 0; x < grid.dims[0]; ++x) cells.push_back({x, y, z});
+  for (const CellCoord& a : cells) {
+    EXPECT_EQ(grid_cell_coord(grid, grid_cell_id(grid, a)), a);
+    for (const CellCoord& b : cells) ASSERT_EQ(cell_precedes(a, b), grid_cell_id(grid, a) < grid_cell_id(grid, b));
+  }
+}
+
+/// The test rule of control_bits.hpp written out over cell ids: R's cells,
+/// the smallest, and whose home it is.
+CellPairVerdict verdict_by_ids(const GridSpec& grid, const LeafCells& a, const LeafCells& b, CellCoord cell) {
+  std::map<std::uint64_t, bool> r;  // cell id of R -> some leaf's own home
+  auto add = [&](const LeafCells& self, const LeafCells& other) {
+    if (block_contains(other.block, self.home)) r[grid_cell_id(grid, self.home)] = true;
+    for (std::uint32_t k = 0; k < self.sibling_count; ++k)
+      if (block_contains(other.block, self.sibling_home[k])) r.emplace(grid_cell_id(grid, self.sibling_home[k]), false);
+  };
+  add(a, b);
+  add(b, a);
+  if (r.empty()) {
+    const CellCoord corner{std::max(a.block.lo.x, b.block.lo.x), std::max(a.block.lo.y, b.block.lo.y),
+                           std::max(a.block.lo.z, b.block.lo.z)};
+    return corner == cell ? CellPairVerdict::kTestFallback : CellPairVerdict::kSkipControlBits;
+  }
+  if (r.begin()->first == grid_cell_id(grid, cell)) return CellPairVerdict::kTest;
+  return r.begin()->second ? CellPairVerdict::kSkipControlBits : CellPairVerdict::kSkipExtendedBits;
+}
+
+TEST(ControlBits, VerdictIsTheRuleOverCellIds) {
+  // Leaves with 0 to 3 siblings at home anywhere in a 6 x 6 x 6 grid, in
+  // every cell the two share: the verdict (cells ordered without the grid,
+  // the three sibling slots read with the count as a condition) is the rule's.
+  const GridSpec grid = make_grid({0, 0, 0}, {6, 6, 6}, 1.0);
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<int> anywhere(0, 5), siblings(0, 3);
+  std::map<CellPairVerdict, int> seen;
+  for (int trial = 0; trial < 20000; ++trial) {
+    LeafCells leaf[2] = {random_leaf(rng), random_leaf(rng)};
+    for (LeafCells& l : leaf) {
+      l.sibling_count = static_cast<std::uint32_t>(siblings(rng));
+      for (std::uint32_t k = 0; k < l.sibling_count; ++k) {
+        // Half of them next to the leaf's block, so that they often lie in the other's.
+        l.sibling_home[k] = rng() % 2 ? CellCoord{anywhere(rng), anywhere(rng), anywhere(rng)}
+                                      : CellCoord{std::min(l.block.hi.x + 1, 5), l.block.lo.y, l.block.lo.z};
+      }
+      l.control_bits = make_control_bits(l);
+    }
+    for (std::uint64_t k = 0; k < block_cell_count(leaf[0].block); ++k) {
+      const CellCoord c = block_cell(leaf[0].block, k);
+      if (!block_contains(leaf[1].block, c)) continue;
+      const CellPairVerdict v = cell_pair_verdict(leaf[0], leaf[1], c);
+      ASSERT_EQ(v, verdict_by_ids(grid, leaf[0], leaf[1], c)) << "trial " << trial;
+      ++seen[v];
+    }
+  }
+  for (CellPairVerdict v : {CellPairVerdict::kTest, CellPairVerdict::kTestFallback, CellPairVerdict::kSkipControlBits,
+                            CellPairVerdict::kSkipExtendedBits})
+    EXPECT_GT(seen[v], 100) << static_cast<int>(v);
+}
+
 TEST(ControlBits, EncodeTypesOfHomeBlockAndSiblings) {
   LeafCells leaf;
   leaf.block = {{2, 3, 4}, {3, 3, 5}};
@@ -167,7 +231,6 @@ TEST(ControlBits, EncodeTypesOfHomeBlockAndSiblings) {
 }
 
 TEST(ControlBits, SingleLeavesSharingCellsAreTestedInExactlyOneCell) {
-  const GridSpec grid = make_grid({0, 0, 0}, {6, 6, 6}, 1.0);
   std::mt19937 rng(5);
   int pairs_sharing = 0;
   for (int trial = 0; trial < 20000; ++trial) {
@@ -177,9 +240,9 @@ TEST(ControlBits, SingleLeavesSharingCellsAreTestedInExactlyOneCell) {
       const CellCoord c = block_cell(a.block, k);
       if (!block_contains(b.block, c)) continue;
       ++shared;
-      const CellPairVerdict v = cell_pair_verdict(grid, a, b, grid_cell_id(grid, c));
+      const CellPairVerdict v = cell_pair_verdict(a, b, c);
       tested += v == CellPairVerdict::kTest || v == CellPairVerdict::kTestFallback;
-      EXPECT_EQ(v, cell_pair_verdict(grid, b, a, grid_cell_id(grid, c)));  // symmetric
+      EXPECT_EQ(v, cell_pair_verdict(b, a, c));  // symmetric
     }
     if (shared > 0) {
       ++pairs_sharing;
@@ -190,7 +253,6 @@ TEST(ControlBits, SingleLeavesSharingCellsAreTestedInExactlyOneCell) {
 }
 
 TEST(ControlBits, SiblingHomeRedirectsTheTestToASmallerCell) {
-  const GridSpec grid = make_grid({0, 0, 0}, {6, 6, 6}, 1.0);
   LeafCells a;  // a child at home in (2,0,0), its sibling at home in (1,0,0)
   a.block = {{2, 0, 0}, {2, 0, 0}};
   a.home = {2, 0, 0};
@@ -203,10 +265,10 @@ TEST(ControlBits, SiblingHomeRedirectsTheTestToASmallerCell) {
   b.control_bits = make_control_bits(b);
   // In (2,0,0) both are home; the sibling's home (1,0,0) lies in b's block and
   // has a smaller id: the extended bits move the test there.
-  EXPECT_EQ(cell_pair_verdict(grid, a, b, grid_cell_id(grid, {2, 0, 0})), CellPairVerdict::kSkipExtendedBits);
+  EXPECT_EQ(cell_pair_verdict(a, b, {2, 0, 0}), CellPairVerdict::kSkipExtendedBits);
   a.sibling_count = 0;
   a.control_bits = make_control_bits(a);
-  EXPECT_EQ(cell_pair_verdict(grid, a, b, grid_cell_id(grid, {2, 0, 0})), CellPairVerdict::kTest);
+  EXPECT_EQ(cell_pair_verdict(a, b, {2, 0, 0}), CellPairVerdict::kTest);
 }
 
 }  // namespace
