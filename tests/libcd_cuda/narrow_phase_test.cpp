@@ -82,6 +82,17 @@ struct DeviceBatch {
   DeviceBuffer<Edge> edges;
   DeviceBuffer<VertexFaceCandidate> vf;
   DeviceBuffer<EdgeEdgeCandidate> ee;
+
+  /// The vertex-face and edge-edge hits of every candidate of the batch
+  /// (and, when asked, their candidates).
+  void find_hits(CudaNarrowPhase& narrow, const CcdSettings& settings, CcdPasses passes, std::vector<CcdHit>& vf_hits,
+                 std::vector<CcdHit>& ee_hits, std::vector<VertexFaceCandidate>* vf_candidates = nullptr,
+                 std::vector<EdgeEdgeCandidate>* ee_candidates = nullptr) const {
+    narrow.vertex_face(x_t0.data(), x_t1.data(), triangles.data(), vf.data(), vf.size(), settings, passes, vf_hits,
+                       vf_candidates);
+    narrow.edge_edge(x_t0.data(), x_t1.data(), edges.data(), ee.data(), ee.size(), settings, passes, ee_hits,
+                     ee_candidates);
+  }
 };
 
 CcdResult cpu_answer(const io::CcdQuery& q, const CcdSettings& settings) {
@@ -133,10 +144,7 @@ TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithNoFalseNegativesOnAllQueries) {
   for (const CcdPasses passes : {CcdPasses::kScreenThenSearch, CcdPasses::kSinglePass}) {
     const char* schedule = passes == CcdPasses::kSinglePass ? "single pass" : "screen then search";
     std::vector<CcdHit> vf_hits, ee_hits;
-    narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
-                       batch.vf.size(), settings, passes, vf_hits);
-    narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
-                     settings, passes, ee_hits);
+    device.find_hits(narrow, settings, passes, vf_hits, ee_hits);
     expect_same_as_cpu(batch.vf_queries, vf_hits, settings, schedule);
     expect_same_as_cpu(batch.ee_queries, ee_hits, settings, schedule);
   }
@@ -152,10 +160,8 @@ TEST_F(NarrowPhaseCcdQueries, RoundsOfAnySizeGiveTheSameHitsAndTheirCandidates) 
   std::vector<CcdHit> vf_hits, ee_hits;
   std::vector<VertexFaceCandidate> vf_candidates;
   std::vector<EdgeEdgeCandidate> ee_candidates;
-  narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(), batch.vf.size(),
-                     CcdSettings{}, CcdPasses::kScreenThenSearch, vf_hits, &vf_candidates);
-  narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
-                   CcdSettings{}, CcdPasses::kScreenThenSearch, ee_hits, &ee_candidates);
+  device.find_hits(narrow, CcdSettings{}, CcdPasses::kScreenThenSearch, vf_hits, ee_hits, &vf_candidates,
+                   &ee_candidates);
   expect_same_as_cpu(batch.vf_queries, vf_hits, CcdSettings{}, "rounds of 97");
   expect_same_as_cpu(batch.ee_queries, ee_hits, CcdSettings{}, "rounds of 97");
   ASSERT_EQ(vf_candidates.size(), vf_hits.size());
@@ -188,10 +194,7 @@ TEST_F(NarrowPhaseCcdQueries, ScreenOnlyLeavesTheUndecidedToTheCaller) {
   CudaNarrowPhase narrow(nullptr);
   const CcdSettings settings;
   std::vector<CcdHit> vf_hits, ee_hits;
-  narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(), batch.vf.size(),
-                     settings, CcdPasses::kScreenOnly, vf_hits);
-  narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
-                   settings, CcdPasses::kScreenOnly, ee_hits);
+  device.find_hits(narrow, settings, CcdPasses::kScreenOnly, vf_hits, ee_hits);
   const std::size_t undecided =
       finish_on_cpu(batch.vf_queries, settings, vf_hits) + finish_on_cpu(batch.ee_queries, settings, ee_hits);
   EXPECT_GT(undecided, 0u) << "the hard queries must leave some undecided";
@@ -209,10 +212,7 @@ TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithThickness) {
   CcdSettings settings;
   settings.thickness = 1e-3;
   std::vector<CcdHit> vf_hits, ee_hits;
-  narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(), batch.vf.size(),
-                     settings, CcdPasses::kScreenThenSearch, vf_hits);
-  narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
-                   settings, CcdPasses::kScreenThenSearch, ee_hits);
+  device.find_hits(narrow, settings, CcdPasses::kScreenThenSearch, vf_hits, ee_hits);
   expect_same_as_cpu(batch.vf_queries, vf_hits, settings, "thickness 1e-3");
   expect_same_as_cpu(batch.ee_queries, ee_hits, settings, "thickness 1e-3");
 }
@@ -230,10 +230,7 @@ TEST_F(NarrowPhaseCcdQueries, EventsBuiltOnTheDeviceAreTheHostsOfTheSameHits) {
     narrow.set_chunk_size(chunk);
     std::vector<CcdHit> vf_hits, ee_hits;
     std::vector<Event> events;
-    narrow.vertex_face(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
-                       batch.vf.size(), settings, passes, vf_hits);
-    narrow.edge_edge(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(), batch.ee.size(),
-                     settings, passes, ee_hits);
+    device.find_hits(narrow, settings, passes, vf_hits, ee_hits);
     narrow.vertex_face_events(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
                               batch.vf.size(), settings, passes, events);
     narrow.edge_edge_events(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(),

@@ -168,7 +168,8 @@ CellPairVerdict verdict_by_ids(const GridSpec& grid, const LeafCells& a, const L
   auto add = [&](const LeafCells& self, const LeafCells& other) {
     if (block_contains(other.block, self.home)) r[grid_cell_id(grid, self.home)] = true;
     for (std::uint32_t k = 0; k < self.sibling_count; ++k)
-      if (block_contains(other.block, self.sibling_home[k])) r.emplace(grid_cell_id(grid, self.sibling_home[k]), false);
+      if (block_contains(other.block, self.sibling_home[k]))
+        r.emplace(grid_cell_id(grid, self.sibling_home[k]), false);
   };
   add(a, b);
   add(b, a);
