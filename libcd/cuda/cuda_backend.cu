@@ -32,7 +32,9 @@
 //    candidates (cuda_broad_phase.cuh), the narrow phase into rounds. The
 //    hits of several chunks are put back in candidate order, so the events
 //    are those of one chunk. When the other detection holds more than half
-//    of what the topology and frames leave, it gives its buffers back first.
+//    of what the topology and frames leave, it gives its buffers back first;
+//    when it holds less and the limit refuses this one, it gives them back
+//    and this one runs again, with the room it would have alone.
 //  - overlap: the scan asks for frame f's intersections, then for the
 //    collisions of f -> f + 1, then for frame f + 1's intersections. Once
 //    intersections have been asked for, collisions() starts the static
@@ -205,20 +207,27 @@ class CudaBackend final : public Backend {
     join_static_ahead();  // one detection on the device at a time (see the file comment)
 
     const std::size_t first = events.size();
-    narrow_.reset_timings();
     std::size_t vf_count = 0, ee_count = 0;
     double narrow_seconds = 0;
-    use_budget(*ccd_broad_, narrow_, CudaNarrowPhase::kCcdBytesPerCandidate, *static_broad_, static_narrow_);
-    ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), [&](const DeviceCandidates& chunk) {
-      const auto narrow_start = std::chrono::steady_clock::now();
-      narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
-                                 CcdPasses::kScreenOnly, events);
-      narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
-                               CcdPasses::kScreenOnly, events);
-      vf_count += chunk.vf_count;
-      ee_count += chunk.ee_count;
-      narrow_seconds += seconds_since(narrow_start);
-    });
+    detect_within_budget(*ccd_broad_, narrow_, CudaNarrowPhase::kCcdBytesPerCandidate, *static_broad_, static_narrow_,
+                         [&] {
+                           events.resize(first);
+                           narrow_.reset_timings();
+                           vf_count = ee_count = 0;
+                           narrow_seconds = 0;
+                           ccd_broad_->detect_ccd_on_device(
+                               d_x_t0, d_x_t1, compute_.get(), [&](const DeviceCandidates& chunk) {
+                                 const auto narrow_start = std::chrono::steady_clock::now();
+                                 narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf,
+                                                            chunk.vf_count, settings_.ccd, CcdPasses::kScreenOnly,
+                                                            events);
+                                 narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count,
+                                                          settings_.ccd, CcdPasses::kScreenOnly, events);
+                                 vf_count += chunk.vf_count;
+                                 ee_count += chunk.ee_count;
+                                 narrow_seconds += seconds_since(narrow_start);
+                               });
+                         });
     stats_.ccd_broad = ccd_broad_->stats();
     const NarrowPhaseTimings& device = narrow_.timings();
     stats_.narrow.seconds_ccd_device = 1e-3 * (device.screen_ms + device.search_ms + device.compact_ms);
@@ -284,19 +293,22 @@ class CudaBackend final : public Backend {
   void find_static(int slot) {
     StaticFound& found = static_found_;
     const Vec3* d_x = slots_[slot].device.data();
-    found.events.clear();
-    found.counts = TrianglePairCounts{};
-    found.tests = 0;
-    found.narrow_seconds = 0;
-    static_narrow_.reset_timings();
-    use_budget(*static_broad_, static_narrow_, CudaNarrowPhase::kStaticBytesPerPair, *ccd_broad_, narrow_);
-    static_broad_->detect_static_on_device(d_x, static_stream_.get(), [&](const DeviceCandidates& chunk) {
-      const auto start = std::chrono::steady_clock::now();
-      static_narrow_.triangle_pair_events(d_x, triangles_.data(), chunk.pairs, chunk.pair_count, found.events,
-                                          found.counts);
-      found.tests += chunk.pair_count;
-      found.narrow_seconds += seconds_since(start);
-    });
+    detect_within_budget(*static_broad_, static_narrow_, CudaNarrowPhase::kStaticBytesPerPair, *ccd_broad_, narrow_,
+                         [&] {
+                           found.events.clear();
+                           found.counts = TrianglePairCounts{};
+                           found.tests = 0;
+                           found.narrow_seconds = 0;
+                           static_narrow_.reset_timings();
+                           static_broad_->detect_static_on_device(
+                               d_x, static_stream_.get(), [&](const DeviceCandidates& chunk) {
+                                 const auto start = std::chrono::steady_clock::now();
+                                 static_narrow_.triangle_pair_events(d_x, triangles_.data(), chunk.pairs,
+                                                                     chunk.pair_count, found.events, found.counts);
+                                 found.tests += chunk.pair_count;
+                                 found.narrow_seconds += seconds_since(start);
+                               });
+                         });
     found.broad = static_broad_->stats();
     found.device_seconds = 1e-3 * (static_narrow_.timings().static_ms + static_narrow_.timings().compact_ms);
   }
@@ -332,6 +344,27 @@ class CudaBackend final : public Backend {
     narrow.set_chunk_size(rounds);
     if (narrow.held_bytes() > narrow_room) narrow.release_buffers();
     broad.set_memory_budget(share - narrow_room, kChunkRoomCap);
+  }
+
+  // Runs `detect` (one detection from its start: it clears what an earlier
+  // run of it left) with the room use_budget gives it. The other detection
+  // keeps its buffers when they hold at most half of the room, which spares
+  // the next step their allocation; when the limit then refuses this one
+  // (UsageError), the other's buffers are given back and `detect` runs again
+  // with all the room it would have alone.
+  template <class Detect>
+  void detect_within_budget(CudaBroadPhase& broad, CudaNarrowPhase& narrow, std::size_t narrow_bytes_per_candidate,
+                            CudaBroadPhase& other_broad, CudaNarrowPhase& other_narrow, Detect detect) {
+    use_budget(broad, narrow, narrow_bytes_per_candidate, other_broad, other_narrow);
+    try {
+      detect();
+    } catch (const UsageError&) {
+      if (other_broad.held_bytes() + other_narrow.held_bytes() == 0) throw;
+      other_broad.release_buffers();
+      other_narrow.release_buffers();
+      use_budget(broad, narrow, narrow_bytes_per_candidate, other_broad, other_narrow);
+      detect();
+    }
   }
 
   // Starts find_static(slot) on a thread of its own, on this thread's device.

@@ -5,10 +5,11 @@
 // the bytes its buffers hold (DeviceMemoryTracker) never above the limit. A
 // limit too small for the topology, for a stage before the pair tests (checked
 // before the stage allocates) or for one chunk is a UsageError (exit 2 from
-// snag-scan), never a crash. Oracles: the unchunked GPU run and the CPU
-// back end.
+// snag-scan), never a crash; a limit at which each detection fits alone
+// holds the whole scan. Oracles: the unchunked GPU run and the CPU back end.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <random>
 #include <string>
@@ -270,6 +271,67 @@ TEST_F(MemoryLimit, BackEndOnClothBallUnderALimitGivesTheEventsOfTheUnlimitedRun
     }
   }
   EXPECT_GE(fitted, 1);
+}
+
+/// The smallest limit, to 1/64 of `high`, under which `run(limit)` is not
+/// refused (UsageError); `high` must not be.
+template <class Run>
+std::size_t smallest_limit(std::size_t high, Run run) {
+  std::size_t low = 0;  // refused
+  while (high - low > high / 64) {
+    const std::size_t middle = low + (high - low) / 2;
+    try {
+      run(middle);
+      high = middle;
+    } catch (const UsageError&) {
+      low = middle;
+    }
+  }
+  return high;
+}
+
+// A scan alternates static and CCD detections, and each keeps its buffers
+// for the next step unless they hold more than half of the room. Under a
+// limit at which each detection fits on its own, the whole scan fits, with
+// the unlimited run's events: a detection refused beside the other's buffers
+// gets them given back and runs again.
+TEST_F(MemoryLimit, ClothBallScanFitsUnderTheLimitAtWhichEachDetectionFitsAlone) {
+  const ClothBallStep step;
+  const LimitedRun unlimited = run_limited(step, 0);
+  auto bound = [&](std::size_t limit) {
+    auto gpu = make_cuda_backend();
+    BackendSettings settings;
+    settings.device_memory_bytes = limit;
+    gpu->bind(step.scene, settings);
+    return gpu;
+  };
+  auto collisions_alone = [&](std::size_t limit) {
+    auto gpu = bound(limit);
+    std::vector<Event> events;
+    gpu->collisions(step.m92.positions, step.m93.positions, events);
+    gpu->collisions(step.m93.positions, step.m92.positions, events);
+  };
+  auto intersections_alone = [&](std::size_t limit) {
+    auto gpu = bound(limit);
+    std::vector<Event> events;
+    gpu->intersections(step.m92.positions, events);
+    gpu->intersections(step.m93.positions, events);
+  };
+  const std::size_t high = 2 * unlimited.peak_bytes;
+  ASSERT_NO_THROW(collisions_alone(high));
+  ASSERT_NO_THROW(intersections_alone(high));
+  const std::size_t ccd_alone = smallest_limit(high, collisions_alone);
+  const std::size_t static_alone = smallest_limit(high, intersections_alone);
+  const std::size_t limit = std::max(ccd_alone, static_alone);
+  const std::string where = "limit " + std::to_string(limit) + " bytes (CCD alone " + std::to_string(ccd_alone) +
+                            ", static alone " + std::to_string(static_alone) + ")";
+  try {
+    const LimitedRun limited = run_limited(step, limit);
+    EXPECT_LE(limited.peak_bytes, limit) << where;
+    test::expect_same_events(unlimited.events, limited.events, where);
+  } catch (const UsageError& error) {
+    ADD_FAILURE() << where << ": " << error.what();
+  }
 }
 
 TEST_F(MemoryLimit, LimitTooSmallForClothBallIsAUsageError) {
