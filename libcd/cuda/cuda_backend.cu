@@ -209,24 +209,23 @@ class CudaBackend final : public Backend {
     const std::size_t first = events.size();
     std::size_t vf_count = 0, ee_count = 0;
     double narrow_seconds = 0;
+    auto visit_chunk = [&](const DeviceCandidates& chunk) {
+      const auto narrow_start = std::chrono::steady_clock::now();
+      narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
+                                 CcdPasses::kScreenOnly, events);
+      narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
+                               CcdPasses::kScreenOnly, events);
+      vf_count += chunk.vf_count;
+      ee_count += chunk.ee_count;
+      narrow_seconds += seconds_since(narrow_start);
+    };
     detect_within_budget(*ccd_broad_, narrow_, CudaNarrowPhase::kCcdBytesPerCandidate, *static_broad_, static_narrow_,
                          [&] {
                            events.resize(first);
                            narrow_.reset_timings();
                            vf_count = ee_count = 0;
                            narrow_seconds = 0;
-                           ccd_broad_->detect_ccd_on_device(
-                               d_x_t0, d_x_t1, compute_.get(), [&](const DeviceCandidates& chunk) {
-                                 const auto narrow_start = std::chrono::steady_clock::now();
-                                 narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf,
-                                                            chunk.vf_count, settings_.ccd, CcdPasses::kScreenOnly,
-                                                            events);
-                                 narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count,
-                                                          settings_.ccd, CcdPasses::kScreenOnly, events);
-                                 vf_count += chunk.vf_count;
-                                 ee_count += chunk.ee_count;
-                                 narrow_seconds += seconds_since(narrow_start);
-                               });
+                           ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk);
                          });
     stats_.ccd_broad = ccd_broad_->stats();
     const NarrowPhaseTimings& device = narrow_.timings();
@@ -293,6 +292,13 @@ class CudaBackend final : public Backend {
   void find_static(int slot) {
     StaticFound& found = static_found_;
     const Vec3* d_x = slots_[slot].device.data();
+    auto visit_chunk = [&](const DeviceCandidates& chunk) {
+      const auto start = std::chrono::steady_clock::now();
+      static_narrow_.triangle_pair_events(d_x, triangles_.data(), chunk.pairs, chunk.pair_count, found.events,
+                                          found.counts);
+      found.tests += chunk.pair_count;
+      found.narrow_seconds += seconds_since(start);
+    };
     detect_within_budget(*static_broad_, static_narrow_, CudaNarrowPhase::kStaticBytesPerPair, *ccd_broad_, narrow_,
                          [&] {
                            found.events.clear();
@@ -300,14 +306,7 @@ class CudaBackend final : public Backend {
                            found.tests = 0;
                            found.narrow_seconds = 0;
                            static_narrow_.reset_timings();
-                           static_broad_->detect_static_on_device(
-                               d_x, static_stream_.get(), [&](const DeviceCandidates& chunk) {
-                                 const auto start = std::chrono::steady_clock::now();
-                                 static_narrow_.triangle_pair_events(d_x, triangles_.data(), chunk.pairs,
-                                                                     chunk.pair_count, found.events, found.counts);
-                                 found.tests += chunk.pair_count;
-                                 found.narrow_seconds += seconds_since(start);
-                               });
+                           static_broad_->detect_static_on_device(d_x, static_stream_.get(), visit_chunk);
                          });
     found.broad = static_broad_->stats();
     found.device_seconds = 1e-3 * (static_narrow_.timings().static_ms + static_narrow_.timings().compact_ms);

@@ -14,6 +14,7 @@
 #include "libcd/cuda/pair_enumeration.cuh"
 
 #include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_reduce.cuh>
 #include <cub/device/device_scan.cuh>
 #include <cub/device/device_select.cuh>
 
@@ -86,10 +87,9 @@ __global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells
   const std::uint64_t begin = first[c], end = first[c + 1], n = end - begin;
   const std::uint64_t i0 = first_with_root(registered, begin, end, lo) - begin;
   const std::uint64_t i1 = first_with_root(registered, begin, end, hi) - begin;
-  auto rows_before = [n](std::uint64_t i) { return i * (2 * n - i - 1) / 2; };
   row_begin[c] = i0;
   row_end[c] = i1;
-  tests[c] = rows_before(i1) - rows_before(i0);
+  tests[c] = pair_count(n - i0) - pair_count(n - i1);  // the pairs (i, j), i < j, with i0 <= i < i1
   tiles[c] = pair_tile_count(n, i0, i1);
 }
 
@@ -364,33 +364,39 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
   p.counters.resize(kCounters + 1);
   p.histogram.resize(kHistogramBuckets);
   p.cell_tests.resize(cells + 1);
-  p.first_test.resize(cells + 1);
+  p.test_total.resize(1);
   p.cell_tiles.resize(cells + 1);
   p.first_tile.resize(cells + 1);
   p.row_begin.resize(cells + 1);
   p.row_end.resize(cells + 1);
 
-  // The tests and tiles of the cells whose smaller root lies in `range`,
-  // numbered cell by cell (first_test, first_tile); returns their counts.
+  // The tests and tiles of the cells whose smaller root lies in `range`:
+  // the tiles numbered cell by cell (first_tile), the tests summed; returns
+  // their counts.
   struct Numbered {
     std::uint64_t tests = 0, tiles = 0;
-  };
-  auto exclusive_sum = [&](const std::uint64_t* in, std::uint64_t* out) {
-    std::size_t bytes = 0;
-    SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, cells + 1, stream));
-    ensure(p.temp, bytes);
-    bytes = p.temp.size();
-    SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(p.temp.data(), bytes, in, out, cells + 1, stream));
   };
   auto number_tests = [&](RootRange range) {
     chunk_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
         lists.first.data(), cells, p.registered.data(), range.first, range.end, p.cell_tests.data(),
         p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
-    exclusive_sum(p.cell_tests.data(), p.first_test.data());
-    exclusive_sum(p.cell_tiles.data(), p.first_tile.data());
+    std::size_t bytes = 0;
+    SNAG_CUDA_CHECK(
+        cub::DeviceReduce::Sum(nullptr, bytes, p.cell_tests.data(), p.test_total.data(), cells + 1, stream));
+    ensure(p.temp, bytes);
+    bytes = p.temp.size();
+    SNAG_CUDA_CHECK(
+        cub::DeviceReduce::Sum(p.temp.data(), bytes, p.cell_tests.data(), p.test_total.data(), cells + 1, stream));
+    bytes = 0;
+    SNAG_CUDA_CHECK(
+        cub::DeviceScan::ExclusiveSum(nullptr, bytes, p.cell_tiles.data(), p.first_tile.data(), cells + 1, stream));
+    ensure(p.temp, bytes);
+    bytes = p.temp.size();
+    SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(p.temp.data(), bytes, p.cell_tiles.data(), p.first_tile.data(),
+                                                  cells + 1, stream));
     Numbered counts;
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(&counts.tests, p.first_test.data() + cells, sizeof(std::uint64_t),
+    SNAG_CUDA_CHECK(cudaMemcpyAsync(&counts.tests, p.test_total.data(), sizeof(std::uint64_t),
                                     cudaMemcpyDeviceToHost, stream));
     SNAG_CUDA_CHECK(cudaMemcpyAsync(&counts.tiles, p.first_tile.data() + cells, sizeof(std::uint64_t),
                                     cudaMemcpyDeviceToHost, stream));
@@ -429,7 +435,7 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
   double seconds = 0;
   std::size_t culled_room =
       count_culled ? std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(all_tests, 1 << 18)) : 0;
-  RootRange numbered_range{0, triangle_end};  // the range first_test and first_tile number now
+  RootRange numbered_range{0, triangle_end};  // the range first_tile and test_total hold now
   Numbered range_counts = whole_set;          // and its tests and tiles
   while (!todo.empty()) {
     const RootRange range = todo.front();

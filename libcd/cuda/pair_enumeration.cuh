@@ -29,7 +29,7 @@ struct DevicePairs {
   DeviceBuffer<RegisteredLeaf> registered;  ///< cell by cell, each cell's by root triangle
   DeviceBuffer<std::uint64_t> order_keys, order_keys_spare;  ///< the registrations' sort
   DeviceBuffer<std::uint32_t> order_ids, order_ids_spare;
-  DeviceBuffer<std::uint64_t> cell_tests, first_test;  ///< a chunk's tests per cell, and their sum before it
+  DeviceBuffer<std::uint64_t> cell_tests, test_total;  ///< a chunk's tests per cell, and their sum (one value)
   DeviceBuffer<std::uint64_t> cell_tiles, first_tile;  ///< a chunk's tiles per cell (grid/pair_index.hpp)
   DeviceBuffer<std::uint64_t> row_begin, row_end;      ///< a chunk's rows [begin, end) of each cell
   DeviceBuffer<std::uint64_t> kept, culled, sorted;  ///< kept and sorted: the sort's two halves
@@ -40,14 +40,14 @@ struct DevicePairs {
 
   explicit DevicePairs(cudaStream_t stream)
       : registered(0, stream), order_keys(0, stream), order_keys_spare(0, stream), order_ids(0, stream),
-        order_ids_spare(0, stream), cell_tests(0, stream), first_test(0, stream), cell_tiles(0, stream),
+        order_ids_spare(0, stream), cell_tests(0, stream), test_total(0, stream), cell_tiles(0, stream),
         first_tile(0, stream), row_begin(0, stream), row_end(0, stream),
         kept(0, stream), culled(0, stream),
         sorted(0, stream), pairs(0, stream), counters(0, stream), histogram(0, stream), temp(0, stream) {}
 
   /// Bytes of the per-cell numbering of a chunk's tests and tiles.
   std::size_t cell_test_bytes() const {
-    return cell_tests.capacity_bytes() + first_test.capacity_bytes() + cell_tiles.capacity_bytes() +
+    return cell_tests.capacity_bytes() + test_total.capacity_bytes() + cell_tiles.capacity_bytes() +
            first_tile.capacity_bytes() + row_begin.capacity_bytes() + row_end.capacity_bytes();
   }
 };

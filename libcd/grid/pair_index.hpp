@@ -71,7 +71,7 @@ SNAG_HD_INLINE void pair_from_index(std::uint64_t n, std::uint64_t k, std::uint6
 /// i1) cut at multiples of kPairTileSide, rows and columns alike. Row tile I
 /// meets the column tiles I, I + 1, ..., the last: a block of threads reads a
 /// tile's rows and columns once and runs every test between them, instead of
-/// reading two items per test. Rows from n - 1 on hold no pairs and make no tiles.
+/// reading two items per test.
 constexpr std::uint64_t kPairTileSide = 64;
 
 /// The items of one tile: rows [row_begin, row_end), columns [column_begin,
@@ -80,29 +80,40 @@ struct PairTile {
   std::uint64_t row_begin = 0, row_end = 0, column_begin = 0, column_end = 0;
 };
 
+/// The row tiles of the rows [i0, i1) of n items (i0 <= i1 <= n): rows from
+/// n - 1 on clipped off, the first row tile, and m, the column tiles it meets
+/// (row tile first + k meets m - k, so the tiles are numbered as the pairs of
+/// m + 1 items).
+struct PairTileRows {
+  std::uint64_t i1 = 0, first = 0, m = 0;
+};
+SNAG_HD_INLINE PairTileRows pair_tile_rows(std::uint64_t n, std::uint64_t i0, std::uint64_t i1) {
+  const std::uint64_t last_row = n < 2 ? 0 : n - 1;
+  PairTileRows rows;
+  rows.i1 = i1 < last_row ? i1 : last_row;
+  rows.first = i0 / kPairTileSide;
+  rows.m = (n + kPairTileSide - 1) / kPairTileSide - rows.first;
+  return rows;
+}
+
 /// Tiles of the rows [i0, i1) of n items (i0 <= i1 <= n).
 SNAG_HD_INLINE std::uint64_t pair_tile_count(std::uint64_t n, std::uint64_t i0, std::uint64_t i1) {
-  if (n < 2 || i1 > n - 1) i1 = n < 2 ? 0 : n - 1;
-  if (i0 >= i1) return 0;
-  // Row tiles first..last; row tile first + k meets m - k column tiles, m
-  // those of the first, so the tiles are numbered as the pairs of m + 1 items.
-  const std::uint64_t first = i0 / kPairTileSide, last = (i1 - 1) / kPairTileSide;
-  const std::uint64_t m = (n + kPairTileSide - 1) / kPairTileSide - first;
-  return pair_count(m + 1) - pair_count(m + 1 - (last - first + 1));
+  const PairTileRows rows = pair_tile_rows(n, i0, i1);
+  if (i0 >= rows.i1) return 0;
+  const std::uint64_t row_tiles = (rows.i1 - 1) / kPairTileSide - rows.first + 1;
+  return pair_count(rows.m + 1) - pair_count(rows.m + 1 - row_tiles);
 }
 
 /// Tile t (0 <= t < pair_tile_count(n, i0, i1)) of the rows [i0, i1) of n
 /// items, row tile by row tile and each row tile's by column tile.
 SNAG_HD_INLINE PairTile pair_tile(std::uint64_t n, std::uint64_t i0, std::uint64_t i1, std::uint64_t t) {
-  if (i1 > n - 1) i1 = n - 1;
-  const std::uint64_t first = i0 / kPairTileSide;
-  const std::uint64_t m = (n + kPairTileSide - 1) / kPairTileSide - first;
+  const PairTileRows rows = pair_tile_rows(n, i0, i1);
   std::uint64_t k = 0, j = 0;
-  pair_from_index(m + 1, t, k, j);  // row tile first + k, column tile first + j - 1
-  const std::uint64_t row_tile = first + k, column_tile = first + j - 1;
+  pair_from_index(rows.m + 1, t, k, j);  // row tile first + k, column tile first + j - 1
+  const std::uint64_t row_tile = rows.first + k, column_tile = rows.first + j - 1;
   PairTile tile;
   tile.row_begin = row_tile * kPairTileSide > i0 ? row_tile * kPairTileSide : i0;
-  tile.row_end = (row_tile + 1) * kPairTileSide < i1 ? (row_tile + 1) * kPairTileSide : i1;
+  tile.row_end = (row_tile + 1) * kPairTileSide < rows.i1 ? (row_tile + 1) * kPairTileSide : rows.i1;
   tile.column_begin = column_tile * kPairTileSide;
   tile.column_end = (column_tile + 1) * kPairTileSide < n ? (column_tile + 1) * kPairTileSide : n;
   return tile;
