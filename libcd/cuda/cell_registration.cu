@@ -13,18 +13,17 @@
 
 #include <algorithm>
 
+#include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
 
 namespace snag {
 namespace {
 
 using detail::blocks_for;
+using detail::ensure_scratch;
+using detail::exclusive_sum;
+using detail::radix_bits;
 using detail::thread_item;
-
-void ensure(DeviceBuffer<unsigned char>& temp, std::size_t bytes, const GrowthCheck& check) {
-  check_growth(check, temp.growth_bytes(std::max<std::size_t>(bytes, 1)));
-  if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
-}
 
 __global__ void block_count_kernel(const Leaf* leaves, std::size_t n, std::uint64_t* count) {
   const std::uint64_t i = thread_item();
@@ -69,12 +68,6 @@ __global__ void first_kernel(std::uint64_t* run_length, std::size_t cells) {
   if (thread_item() == 0) run_length[cells] = 0;
 }
 
-int bits_for(std::uint64_t max_value) {
-  int bits = 1;
-  while (bits < 64 && (max_value >> bits) != 0) ++bits;
-  return bits;
-}
-
 }  // namespace
 
 void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec& grid, DeviceCellLists& g,
@@ -93,12 +86,7 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   g.offset.resize(n + 1);
   block_count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(leaves, n, g.block_count.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, g.block_count.data(), g.offset.data(), n + 1, stream));
-  ensure(g.temp, bytes, check);
-  bytes = g.temp.size();
-  SNAG_CUDA_CHECK(
-      cub::DeviceScan::ExclusiveSum(g.temp.data(), bytes, g.block_count.data(), g.offset.data(), n + 1, stream));
+  exclusive_sum(g.block_count.data(), g.offset.data(), n + 1, g.temp, stream, check);
   std::uint64_t total = 0;
   SNAG_CUDA_CHECK(
       cudaMemcpyAsync(&total, g.offset.data() + n, sizeof(std::uint64_t), cudaMemcpyDeviceToHost, stream));
@@ -121,12 +109,12 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   const std::uint64_t max_id = static_cast<std::uint64_t>(grid.dims[0]) * static_cast<std::uint64_t>(grid.dims[1]) *
                                    static_cast<std::uint64_t>(grid.dims[2]) -
                                1;
-  const int end_bit = bits_for(max_id);
-  bytes = 0;
+  const int end_bit = radix_bits(max_id);
+  std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, g.keys.data(), g.keys_sorted.data(),
                                                   g.values.data(), g.values_sorted.data(), total, 0, end_bit,
                                                   stream));
-  ensure(g.temp, bytes, check);
+  ensure_scratch(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(g.temp.data(), bytes, g.keys.data(), g.keys_sorted.data(),
                                                   g.values.data(), g.values_sorted.data(), total, 0, end_bit,
@@ -148,14 +136,14 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(nullptr, bytes, g.keys_sorted.data(), g.keep.data(), g.kept_keys.data(),
                                              g.selected.data(), total, stream));
-  ensure(g.temp, bytes, check);
+  ensure_scratch(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(g.temp.data(), bytes, g.keys_sorted.data(), g.keep.data(),
                                              g.kept_keys.data(), g.selected.data(), total, stream));
   bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(nullptr, bytes, g.values_sorted.data(), g.keep.data(), g.leaves.data(),
                                              g.selected.data(), total, stream));
-  ensure(g.temp, bytes, check);
+  ensure_scratch(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(g.temp.data(), bytes, g.values_sorted.data(), g.keep.data(),
                                              g.leaves.data(), g.selected.data(), total, stream));
@@ -173,7 +161,7 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(nullptr, bytes, g.kept_keys.data(), g.cell_ids.data(),
                                                      g.run_length.data(), g.selected.data() + 1, kept, stream));
-  ensure(g.temp, bytes, check);
+  ensure_scratch(g.temp, bytes, check);
   bytes = g.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(g.temp.data(), bytes, g.kept_keys.data(), g.cell_ids.data(),
                                                      g.run_length.data(), g.selected.data() + 1, kept, stream));
@@ -186,12 +174,7 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   SNAG_CUDA_CHECK_LAUNCH();
   check_growth(check, g.first.growth_bytes(cells + 1));
   g.first.resize(cells + 1);
-  bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, g.run_length.data(), g.first.data(), cells + 1, stream));
-  ensure(g.temp, bytes, check);
-  bytes = g.temp.size();
-  SNAG_CUDA_CHECK(
-      cub::DeviceScan::ExclusiveSum(g.temp.data(), bytes, g.run_length.data(), g.first.data(), cells + 1, stream));
+  exclusive_sum(g.run_length.data(), g.first.data(), cells + 1, g.temp, stream, check);
 }
 
 }  // namespace snag

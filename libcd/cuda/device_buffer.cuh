@@ -12,6 +12,7 @@
 
 #include <cuda_runtime_api.h>
 
+#include <algorithm>
 #include <cassert>
 #include <cstddef>
 #include <functional>
@@ -193,6 +194,26 @@ class PinnedBuffer {
 using GrowthCheck = std::function<void(std::size_t bytes)>;
 inline void check_growth(const GrowthCheck& check, std::size_t bytes) {
   if (check) check(bytes);
+}
+
+/// Gives `buffer` room for `count` items keeping its first `kept` (a list that
+/// grows stage after stage): when the capacity is short, `spare` is sized to
+/// max(count, twice the capacity), takes the kept items and becomes the
+/// buffer; `check` is told first. The size becomes `count`. Throws CudaError.
+template <class T>
+void grow_keeping(DeviceBuffer<T>& buffer, DeviceBuffer<T>& spare, std::size_t kept, std::size_t count,
+                  const GrowthCheck& check = {}) {
+  if (count > buffer.capacity()) {
+    const std::size_t room = std::max<std::size_t>(count, 2 * buffer.capacity());
+    check_growth(check, spare.growth_bytes(room));  // beside the kept items, which it takes over
+    spare.resize(room);
+    if (kept > 0)
+      SNAG_CUDA_CHECK(cudaMemcpyAsync(spare.data(), buffer.data(), kept * sizeof(T), cudaMemcpyDeviceToDevice,
+                                      buffer.stream()));
+    std::swap(buffer, spare);
+    spare.release();
+  }
+  buffer.resize(count);
 }
 
 }  // namespace snag

@@ -10,6 +10,7 @@
 #include <algorithm>
 
 #include "libcd/bounding_volume/primitive_bounds.hpp"
+#include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
 
 namespace snag {
@@ -66,10 +67,6 @@ __global__ void vertex_bounds_kernel(std::size_t n, const Vec3* x_t0, const Vec3
   dops[v] = swept_dop(&x_t0[v], &x_t1[v], 1, thickness);
 }
 
-void ensure_temp(DeviceBuffer<unsigned char>& temp, std::size_t bytes) {
-  if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
-}
-
 }  // namespace
 
 void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t triangle_count, const Edge* edges,
@@ -118,7 +115,7 @@ void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t t
                                               triangle_count, DoubleMax{}, radius_init, stream));
     need = std::max(need, bytes);
   }
-  ensure_temp(out.temp, need);
+  detail::ensure_scratch(out.temp, need);
   if (vertex_count > 0) {
     const Vec3* frames[2] = {x_t0, x_t1};
     for (int k = 0; k < 2; ++k) {
@@ -162,7 +159,7 @@ FixedPointSum radius_sum_on_device(DevicePrimitiveBounds& bounds, std::size_t tr
   std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceReduce::Reduce(nullptr, bytes, quantized, bounds.radius_sum.data(), triangle_count,
                                             FixedPointAdd{}, FixedPointSum{}, stream));
-  ensure_temp(bounds.temp, bytes);
+  detail::ensure_scratch(bounds.temp, bytes);
   bytes = bounds.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceReduce::Reduce(bounds.temp.data(), bytes, quantized, bounds.radius_sum.data(),
                                             triangle_count, FixedPointAdd{}, FixedPointSum{}, stream));

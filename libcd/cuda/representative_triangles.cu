@@ -13,17 +13,17 @@
 
 #include "libcd/core/error.hpp"
 
+#include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
 
 namespace snag {
 namespace {
 
 using detail::blocks_for;
+using detail::ensure_scratch;
+using detail::exclusive_sum;
+using detail::radix_bits;
 using detail::thread_item;
-
-void ensure(DeviceBuffer<unsigned char>& temp, std::size_t bytes) {
-  if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
-}
 
 __device__ __forceinline__ bool is_corner(const Triangle& t, Index v) { return t[0] == v || t[1] == v || t[2] == v; }
 
@@ -134,21 +134,6 @@ __global__ void unpack_ee_kernel(const std::uint64_t* keys, std::size_t n, EdgeE
   if (k < n) out[k] = {static_cast<Index>(keys[k] >> 32), static_cast<Index>(keys[k] & 0xffffffffu)};
 }
 
-int bits_for(std::uint64_t max_value) {
-  int bits = 1;
-  while (bits < 64 && (max_value >> bits) != 0) ++bits;
-  return bits;
-}
-
-void exclusive_sum(const std::uint64_t* in, std::uint64_t* out, std::size_t n, DeviceBuffer<unsigned char>& temp,
-                   cudaStream_t stream) {
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, n, stream));
-  ensure(temp, bytes);
-  bytes = temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temp.data(), bytes, in, out, n, stream));
-}
-
 /// Sorts n keys with `spare` as the sort's other half; returns the half that holds them sorted.
 const std::uint64_t* sort_keys(std::uint64_t* keys, std::uint64_t* spare, std::size_t n, int end_bit,
                                DeviceBuffer<unsigned char>& temp, cudaStream_t stream) {
@@ -156,7 +141,7 @@ const std::uint64_t* sort_keys(std::uint64_t* keys, std::uint64_t* spare, std::s
   cub::DoubleBuffer<std::uint64_t> halves(keys, spare);
   std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, halves, n, 0, end_bit, stream));
-  ensure(temp, bytes);
+  ensure_scratch(temp, bytes);
   bytes = temp.size();
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(temp.data(), bytes, halves, n, 0, end_bit, stream));
   return halves.Current();
@@ -213,8 +198,8 @@ void representative_feature_pairs_on_device(
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
 
   // Keys are unique (see representative_triangles.hpp); a sort orders them as the CPU's.
-  const int vf_bits = 32 + bits_for(vertex_count > 0 ? vertex_count - 1 : 0);
-  const int ee_bits = 32 + bits_for(edge_count > 0 ? edge_count - 1 : 0);
+  const int vf_bits = 32 + radix_bits(vertex_count > 0 ? vertex_count - 1 : 0);
+  const int ee_bits = 32 + radix_bits(edge_count > 0 ? edge_count - 1 : 0);
   for (std::size_t j = 0; j < parts; ++j) {
     const std::uint64_t first = bounds[3 * j], end = bounds[3 * j + 3];
     const std::size_t vf_n = bounds[3 * j + 4] - bounds[3 * j + 1], ee_n = bounds[3 * j + 5] - bounds[3 * j + 2];

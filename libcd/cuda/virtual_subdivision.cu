@@ -11,12 +11,14 @@
 
 #include "libcd/bounding_volume/bounding_sphere.hpp"
 #include "libcd/bounding_volume/primitive_bounds.hpp"
+#include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
 
 namespace snag {
 namespace {
 
 using detail::blocks_for;
+using detail::exclusive_sum;
 using detail::thread_item;
 
 __device__ __forceinline__ bool is_leaf(SplitDecision d) {
@@ -108,16 +110,6 @@ __global__ void write_kernel(const DeviceLevelItem* items, std::size_t n, const 
   }
 }
 
-void exclusive_sum(const std::uint64_t* in, std::uint64_t* out, std::size_t n, DeviceBuffer<unsigned char>& temp,
-                   cudaStream_t stream, const GrowthCheck& check) {
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, n, stream));
-  check_growth(check, temp.growth_bytes(std::max<std::size_t>(bytes, 1)));
-  if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
-  bytes = temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temp.data(), bytes, in, out, n, stream));
-}
-
 }  // namespace
 
 std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t triangle_count, const Vec3* x_t0,
@@ -170,17 +162,7 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
 
     // Room for this level's leaves after the previous ones (grow, keeping them).
     const std::size_t leaf_end = leaf_total_so_far + leaf_total;
-    if (leaf_end > b.leaves.capacity()) {
-      const std::size_t room = std::max<std::size_t>(leaf_end, 2 * b.leaves.capacity());
-      check_growth(check, b.spare.growth_bytes(room));  // beside the leaves so far, which it takes over
-      b.spare.resize(room);
-      if (leaf_total_so_far > 0)
-        SNAG_CUDA_CHECK(cudaMemcpyAsync(b.spare.data(), b.leaves.data(), leaf_total_so_far * sizeof(Leaf),
-                                        cudaMemcpyDeviceToDevice, stream));
-      std::swap(b.leaves, b.spare);
-      b.spare.release();
-    }
-    b.leaves.resize(leaf_end);
+    grow_keeping(b.leaves, b.spare, leaf_total_so_far, leaf_end, check);
     check_growth(check, b.next.growth_bytes(child_total));
     b.next.resize(child_total);
     write_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(

@@ -1,0 +1,41 @@
+// Scratch and prefix sums shared by the GPU stages: CUB's two-call pattern
+// (ask the scratch size, then run) written once.
+#pragma once
+
+#include <cub/device/device_scan.cuh>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+#include "libcd/cuda/device_buffer.cuh"
+
+namespace snag::detail {
+
+/// Sizes CUB's scratch `temp` to at least `bytes` (at least 1); `check` is
+/// told what it adds first (it may throw).
+inline void ensure_scratch(DeviceBuffer<unsigned char>& temp, std::size_t bytes, const GrowthCheck& check = {}) {
+  const std::size_t need = std::max<std::size_t>(bytes, 1);
+  check_growth(check, temp.growth_bytes(need));
+  if (temp.size() < need) temp.resize(need);
+}
+
+/// out[k] = in[0] + ... + in[k-1] for k < n, in stream order. Throws CudaError.
+template <class T>
+void exclusive_sum(const T* in, T* out, std::size_t n, DeviceBuffer<unsigned char>& temp, cudaStream_t stream,
+                   const GrowthCheck& check = {}) {
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(nullptr, bytes, in, out, n, stream));
+  ensure_scratch(temp, bytes, check);
+  bytes = temp.size();
+  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temp.data(), bytes, in, out, n, stream));
+}
+
+/// The bits a radix sort needs for keys up to max_value (at least 1).
+inline int radix_bits(std::uint64_t max_value) {
+  int bits = 1;
+  while (bits < 64 && (max_value >> bits) != 0) ++bits;
+  return bits;
+}
+
+}  // namespace snag::detail
