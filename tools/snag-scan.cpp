@@ -46,7 +46,7 @@ struct ScanOptions {
   std::string mode = "all";
   double thickness = 0;
   std::string backend = "auto";
-  std::string grid = "uniform";  ///< --grid: adaptive picks the CPU back end's adaptive grid
+  std::string grid = "uniform";  ///< --grid: adaptive subdivides crowded cells (either back end)
   unsigned threads = 0;
   double lambda = 1.2;
   std::size_t device_memory = 0;  ///< --device-memory, bytes (0: what the GPU has free)
@@ -64,21 +64,23 @@ struct ScanOptions {
 // present, else the CPU one. cuda: the CUDA back end or a usage error (exit 2)
 // saying why it cannot run.
 std::unique_ptr<snag::Backend> choose_backend(const std::string& requested, const std::string& grid) {
-  if (grid == "adaptive") {
-    if (requested == "cuda") throw snag::UsageError("--grid adaptive: the CUDA back end has no adaptive grid yet");
-    return snag::make_cpu_backend(snag::CpuBackendOptions{snag::BroadPhaseMethod::kAdaptiveGrid});
-  }
-  if (requested == "cpu") return snag::make_cpu_backend();
+  const snag::BroadPhaseMethod method =
+      grid == "adaptive" ? snag::BroadPhaseMethod::kAdaptiveGrid : snag::BroadPhaseMethod::kVirtualSubdivisionGrid;
+  auto cpu_backend = [&] {
+    return method == snag::BroadPhaseMethod::kAdaptiveGrid ? snag::make_cpu_backend(snag::CpuBackendOptions{method})
+                                                           : snag::make_cpu_backend();
+  };
+  if (requested == "cpu") return cpu_backend();
 #if SNAG_HAVE_CUDA
   const snag::CudaDeviceInfo device = snag::query_cuda_device();
-  if (device.available) return snag::make_cuda_backend();
+  if (device.available) return snag::make_cuda_backend(method);
   if (requested == "cuda") throw snag::UsageError("--backend cuda: " + device.why_not);
 #else
   if (requested == "cuda") {
     throw snag::UsageError("--backend cuda: this build has no CUDA back end: configure with -DSNAG_WITH_CUDA=ON");
   }
 #endif
-  return snag::make_cpu_backend();
+  return cpu_backend();
 }
 
 // Reports name objects; two objects of one name could not be told apart.
@@ -293,7 +295,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("-b,--backend", options.backend, "auto, cpu or cuda")
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
-  app.add_option("--grid", options.grid, "uniform, or adaptive (crowded cells subdivided; the CPU back end)")
+  app.add_option("--grid", options.grid, "uniform, or adaptive (crowded cells subdivided)")
       ->check(CLI::IsMember({"uniform", "adaptive"}));
   app.add_option("-j,--threads", options.threads, "CPU threads (0 = all cores)");
   app.add_option("--lambda", options.lambda, "Cell-size coefficient of the CUDA back end's grid: cell = 3 x lambda x mean triangle radius (the CPU back end's box grid does not use it)")

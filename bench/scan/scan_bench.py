@@ -29,15 +29,18 @@ Scenes (those whose files are missing are skipped, with a note):
                   snag-bench-gpu --write-refined (needs CUDA) into --work
   sheet_floor     bench/report/make_long_cache.py: a 100 x 100 sheet falling on a floor
 
+--grids runs every scene with each grid named (snag-scan --grid: uniform, the
+adaptive grid whose crowded cells are split), side by side in one call.
+
 --check-cpu also scans each scene's short selection with --backend cpu and
-compares every event line of the two reports (--max-events 0): the GPU must
-report the same events, bit for bit.
+compares every event line of the reports (--max-events 0): the GPU must
+report the same events, bit for bit, with every grid of --grids.
 
 Times are of one machine and one call: compare figures of the same call;
 each figure is the median of --runs runs.
 
     scan_bench.py [--build DIR | --scan EXE [--bench-gpu EXE]] [--backend cuda|cpu]
-                  [--scenes a,b,...] [--frames N] [--runs N] [--modes ccd,all]
+                  [--scenes a,b,...] [--frames N] [--runs N] [--modes ccd,all] [--grids uniform,adaptive]
                   [--check-cpu] [--work DIR] [--json FILE]
 """
 import argparse
@@ -178,16 +181,17 @@ def make_scenes(args, work):
     return scenes
 
 
-def measure(args, scene, mode, work):
-    """Medians over --runs of the per-step times (ms) of one scene and mode, and memory."""
+def measure(args, scene, mode, grid, work):
+    """Medians over --runs of the per-step times (ms) of one scene, mode and grid, and memory."""
     long_frames = args.frames if scene.frame_count is None else min(args.frames, scene.frame_count)
     per_step = {k: [] for k in STAGES + ["report", "total"]}
     host_peak, device_peak, broad_peak, events, stages = [], [], 0.0, 0, {}
     for run in range(args.runs):
         totals = {}
         for frames in (2, long_frames):
-            path = os.path.join(work, f"{scene.name}_{mode}_{frames}.jsonl")
-            rss, device = run_scan([args.scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "-q", "-r", path],
+            path = os.path.join(work, f"{scene.name}_{mode}_{grid}_{frames}.jsonl")
+            rss, device = run_scan([args.scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "--grid", grid,
+                                    "-q", "-r", path],
                                    sample_device=frames == long_frames and args.backend == "cuda")
             t = trailer(path)
             totals[frames] = stage_seconds(t)
@@ -204,23 +208,26 @@ def measure(args, scene, mode, work):
     row["backend"] = sum(row[k] for k in BACKEND_STAGES)
     # Reading runs on its own thread beside the rest: not part of the sum.
     row["other"] = row["total"] - sum(row[k] for k in STAGES if k != "read")
-    row.update({"scene": scene.name, "mode": mode, "triangles": scene.triangles, "frames": long_frames,
+    row.update({"scene": scene.name, "mode": mode, "grid": grid, "triangles": scene.triangles, "frames": long_frames,
                 "runs": args.runs, "events_long": events, "host_peak_mib": max(host_peak),
                 "device_peak_mib": max(device_peak) if device_peak else None, "broad_peak_mib": broad_peak,
                 "total_spread_ms": [min(per_step["total"]), max(per_step["total"])], "stages": stages})
     return row
 
 
-def check_cpu(args, scene, work):
-    """Same events from both back ends on the scene's first step (and its two frames)."""
+def check_cpu(args, scene, grids, work):
+    """Same events from the CPU back end (uniform grid) and from args.backend with
+    each grid, on the scene's first step (and its two frames)."""
+    runs = [("cpu", "uniform")] + [(args.backend, grid) for grid in grids]
     digests = {}
-    for backend in ("cpu", args.backend):
-        path = os.path.join(work, f"{scene.name}_check_{backend}.jsonl")
-        run_scan([args.scan, *scene.inputs(2), "-b", backend, "-m", "all", "--max-events", "0", "-q", "-r", path])
-        digests[backend] = event_digest(path)
-    same = digests["cpu"] == digests[args.backend]
-    return {"scene": scene.name, "events": digests["cpu"][0], "same": same,
-            "cpu": digests["cpu"][1][:16], args.backend: digests[args.backend][1][:16]}
+    for backend, grid in runs:
+        path = os.path.join(work, f"{scene.name}_check_{backend}_{grid}.jsonl")
+        run_scan([args.scan, *scene.inputs(2), "-b", backend, "-m", "all", "--grid", grid, "--max-events", "0", "-q",
+                  "-r", path])
+        digests[f"{backend} {grid}"] = event_digest(path)
+    same = all(d == digests["cpu uniform"] for d in digests.values())
+    return {"scene": scene.name, "events": digests["cpu uniform"][0], "same": same,
+            **{k: d[1][:16] for k, d in digests.items()}}
 
 
 def main():
@@ -231,6 +238,7 @@ def main():
     parser.add_argument("--backend", default="cuda", choices=["cpu", "cuda"])
     parser.add_argument("--scenes", default="cloth_ball,sample,cloth_ball_x4,cloth_ball_x16,sheet_floor")
     parser.add_argument("--modes", default="ccd,all")
+    parser.add_argument("--grids", default="uniform", help="snag-scan --grid values, comma-separated")
     parser.add_argument("--frames", type=int, default=12)
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--check-cpu", action="store_true")
@@ -252,7 +260,10 @@ def main():
 
     print(f"== per step through snag-scan --backend {args.backend}, ms (median of {args.runs}; "
           f"(total of {args.frames} frames - total of 2) / {args.frames - 2})")
-    header = (f"{'scene':<15} {'mode':<4} {'total':>8} {'backend':>8} {'read':>6} {'ccd bp':>7} {'ccd np':>7} "
+    grids = args.grids.split(",")
+    if any(g not in ("uniform", "adaptive") for g in grids):
+        parser.error("--grids takes uniform and adaptive")
+    header = (f"{'scene':<15} {'mode':<4} {'grid':<8} {'total':>8} {'backend':>8} {'read':>6} {'ccd bp':>7} {'ccd np':>7} "
               f"{'certif':>7} {'st bp':>7} {'st np':>7} {'report':>7} {'rep wait':>8} {'other':>7} {'dev MiB':>8} {'bp MiB':>7} "
               f"{'host MiB':>8}")
     print(header)
@@ -261,19 +272,20 @@ def main():
             print(f"{name:<15} (skipped: its files or snag-bench-gpu are missing)")
             continue
         for mode in args.modes.split(","):
-            row = measure(args, scenes[name], mode, work)
-            results["rows"].append(row)
-            device = "-" if row["device_peak_mib"] is None else f"{row['device_peak_mib']:.0f}"
-            print(f"{name:<15} {mode:<4} {row['total']:>8.2f} {row['backend']:>8.2f} {row['read']:>6.2f} "
-                  f"{row['ccd_broad']:>7.2f} {row['ccd_narrow']:>7.2f} {row['certification']:>7.2f} "
-                  f"{row['static_broad']:>7.2f} {row['static_narrow']:>7.2f} {row['report']:>7.2f} {row['report_wait']:>8.2f} "
-                  f"{row['other']:>7.2f} {device:>8} {row['broad_peak_mib']:>7.0f} {row['host_peak_mib']:>8.0f}",
-                  flush=True)
+            for grid in grids:
+                row = measure(args, scenes[name], mode, grid, work)
+                results["rows"].append(row)
+                device = "-" if row["device_peak_mib"] is None else f"{row['device_peak_mib']:.0f}"
+                print(f"{name:<15} {mode:<4} {grid:<8} {row['total']:>8.2f} {row['backend']:>8.2f} {row['read']:>6.2f} "
+                      f"{row['ccd_broad']:>7.2f} {row['ccd_narrow']:>7.2f} {row['certification']:>7.2f} "
+                      f"{row['static_broad']:>7.2f} {row['static_narrow']:>7.2f} {row['report']:>7.2f} {row['report_wait']:>8.2f} "
+                      f"{row['other']:>7.2f} {device:>8} {row['broad_peak_mib']:>7.0f} {row['host_peak_mib']:>8.0f}",
+                      flush=True)
     if args.check_cpu and args.backend != "cpu":
         print(f"== same events as the CPU back end (first step, every event listed)")
         for name in args.scenes.split(","):
             if name in scenes and name != "cloth_ball_x16":  # the CPU back end takes minutes on it
-                check = check_cpu(args, scenes[name], work)
+                check = check_cpu(args, scenes[name], grids, work)
                 results["checks"].append(check)
                 print(f"{name:<15} {check['events']:>9} events  {'same' if check['same'] else 'DIFFERENT'}", flush=True)
     if args.json:

@@ -126,7 +126,7 @@ enum class BroadPhaseMethod {
   kLargestTriangleGrid,     ///< Grand's grid, cell fits the largest triangle, no subdivision
   kBruteForce,              ///< all triangle pairs (brute_force.hpp)
   kBoxGrid,                 ///< the CPU's grid of triangle boxes, queried triangle by triangle (box_grid.hpp)
-  kAdaptiveGrid,            ///< the VSS grid with crowded cells subdivided (grid/adaptive_cells.hpp); CPU only
+  kAdaptiveGrid,            ///< the VSS grid with crowded cells subdivided (grid/adaptive_cells.hpp)
   kSweepAndPrune,           ///< boxes sorted along one axis and swept (sweep_and_prune.hpp); CPU only
 };
 

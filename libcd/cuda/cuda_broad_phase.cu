@@ -7,6 +7,7 @@
 #include <string>
 
 #include "libcd/core/error.hpp"
+#include "libcd/cuda/adaptive_cells.cuh"
 #include "libcd/cuda/cuda_check.cuh"
 #include "libcd/cuda/cuda_event.cuh"
 #include "libcd/cuda/cell_registration.cuh"
@@ -27,12 +28,13 @@ struct CudaBroadPhaseBuffers {
   DevicePrimitiveBounds bounds;
   DeviceSubdivision subdivision;
   DeviceCellLists cells;
+  DeviceAdaptiveCells adaptive;
   DevicePairs pairs;
   DeviceFeatures features;
 
   explicit CudaBroadPhaseBuffers(cudaStream_t stream)
       : topology(stream), x_t0(0, stream), x_t1(0, stream), bounds(stream), subdivision(stream), cells(stream),
-        pairs(stream), features(stream) {}
+        adaptive(stream), pairs(stream), features(stream) {}
 };
 
 namespace {
@@ -60,7 +62,7 @@ void append_download(const T* items, std::size_t count, std::vector<T>& host, cu
 
 }  // namespace
 
-CudaBroadPhase::CudaBroadPhase(bool subdivide) : subdivide_(subdivide) {}
+CudaBroadPhase::CudaBroadPhase(bool subdivide, bool adaptive) : subdivide_(subdivide), adaptive_(adaptive) {}
 CudaBroadPhase::~CudaBroadPhase() = default;
 
 void CudaBroadPhase::build(const Scene& scene, const BroadPhaseSettings& settings) {
@@ -69,6 +71,9 @@ void CudaBroadPhase::build(const Scene& scene, const BroadPhaseSettings& setting
   if (settings.max_subdivision_levels < 0 || settings.max_subdivision_levels > 30 || settings.max_time_halvings < 0 ||
       settings.max_time_halvings > 30)
     throw UsageError("broad phase: safety limits must lie in [0, 30]");
+  if (adaptive_ && (settings.adaptive_cell_limit < 2 || settings.adaptive_max_depth < 0 ||
+                    settings.adaptive_max_depth > kMaxAdaptiveDepth))
+    throw UsageError("broad phase: the adaptive grid needs a cell limit >= 2 and a depth in [0, 8]");
   if (scene.vertex_count() > 0xffffffffull || scene.triangle_count() > 0xffffffffull)
     throw UsageError("broad phase: the GPU back end takes at most 2^32 - 1 vertices and triangles");
   scene_ = &scene;
@@ -148,28 +153,42 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   stats_.leaf_triangles = leaf_count;
   subdivided.record(stream);
 
-  // 4. Registration, one sort, one scan.
+  // 4. Registration: one sort and one scan in the uniform grid, or the
+  // hierarchy of crowded cells.
   DeviceMemoryTracker::set_stage("broad phase: registration");
-  RegistrationCounts reg;
-  register_leaves_on_device(b.subdivision.leaves.data(), leaf_count, grid, b.cells, stream, reg,
-                            budget_check("registration"));
-  stats_.registrations = reg.registrations;
-  stats_.home_registrations = reg.home;
-  stats_.phantom_registrations = reg.phantom;
-  stats_.duplicate_registrations_removed = reg.duplicates_removed;
-  stats_.cells_used = b.cells.cells;
+  std::size_t test_cells = 0;
+  if (adaptive_) {
+    DeviceAdaptiveCells& tree = b.adaptive;
+    build_adaptive_cells_on_device(b.subdivision.leaves.data(), leaf_count, grid, settings_.adaptive_max_depth,
+                                   settings_.adaptive_cell_limit, tree, stream, budget_check("adaptive grid"));
+    stats_.registrations = tree.registrations;
+    stats_.cells_used = test_cells = tree.cell_count;
+    stats_.cells_subdivided = tree.cells_subdivided;
+    stats_.deepest_level = tree.deepest_level;
+  } else {
+    RegistrationCounts reg;
+    register_leaves_on_device(b.subdivision.leaves.data(), leaf_count, grid, b.cells, stream, reg,
+                              budget_check("registration"));
+    stats_.registrations = reg.registrations;
+    stats_.home_registrations = reg.home;
+    stats_.phantom_registrations = reg.phantom;
+    stats_.duplicate_registrations_removed = reg.duplicates_removed;
+    stats_.cells_used = test_cells = b.cells.cells;
+  }
   registered.record(stream);
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
   stats_.seconds_bounds = seconds_between(start, bounded);
   stats_.seconds_subdivision = seconds_between(bounded, subdivided);
   stats_.seconds_registration = seconds_between(subdivided, registered);
 
-  // 5a. What the pair tests read of the leaves, in cell order. Under a tight
-  // budget (the stages so far hold over half of it), the leaves and the
-  // subdivision's and registration's scratch are given back now.
+  // 5a. What the pair tests read of the leaves, in cell order (the adaptive
+  // cells' members are that already). Under a tight budget (the stages so far
+  // hold over half of it), the leaves and the subdivision's and
+  // registration's scratch are given back now.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
-  order_registrations_on_device(b.subdivision.leaves.data(), b.cells, b.pairs, stream,
-                                budget_check("copy of the leaves for the pair tests"));
+  if (!adaptive_)
+    order_registrations_on_device(b.subdivision.leaves.data(), b.cells, b.pairs, stream,
+                                  budget_check("copy of the leaves for the pair tests"));
   if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
 
   // The chunks' room: what the budget leaves beside the buffers the chunks do
@@ -177,7 +196,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   std::size_t key_room = ~std::size_t{0};
   candidate_room_ = ~std::size_t{0};
   if (budget_ > 0) {
-    const std::size_t fixed = held_bytes() - chunk_bytes() + (b.cells.cells + 1) * 3 * sizeof(std::uint64_t) +
+    const std::size_t fixed = held_bytes() - chunk_bytes() + (test_cells + 1) * 3 * sizeof(std::uint64_t) +
                               (std::size_t{4} << 20);  // counters, histogram, sort scratch
     if (fixed >= budget_)
       throw UsageError("the device memory limit is too small for this scene: the broad phase holds " +
@@ -207,13 +226,19 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // 5. One test per thread; 6. sort + unique of root pairs, chunk by chunk.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   last_chunks_ = 0;
-  enumerate_pairs_on_device(b.cells, grid, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(), triangle_count,
-                            settings_.count_culled_duplicates, *plan_, b.pairs, stream, stats_,
-                            [&](const TrianglePair* pairs, std::size_t count) {
-                              ++last_chunks_;
-                              visit(pairs, count);
-                              DeviceMemoryTracker::set_stage("broad phase: pairs");
-                            });
+  auto visit_chunk = [&](const TrianglePair* pairs, std::size_t count) {
+    ++last_chunks_;
+    visit(pairs, count);
+    DeviceMemoryTracker::set_stage("broad phase: pairs");
+  };
+  if (adaptive_)
+    enumerate_adaptive_pairs_on_device(b.adaptive, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
+                                       triangle_count, settings_.count_culled_duplicates, *plan_, b.pairs, stream,
+                                       stats_, visit_chunk);
+  else
+    enumerate_pairs_on_device(b.cells, grid, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
+                              triangle_count, settings_.count_culled_duplicates, *plan_, b.pairs, stream, stats_,
+                              visit_chunk);
 }
 
 void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
@@ -342,6 +367,10 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
       c.block_count.capacity_bytes() + c.offset.capacity_bytes() + c.run_length.capacity_bytes() +
           c.keep.capacity_bytes() + c.selected.capacity_bytes() + c.temp.capacity_bytes());
   const DevicePairs& p = b.pairs;
+  const DeviceAdaptiveCells& a = b.adaptive;
+  add("adaptive: fine blocks and leaf DOPs", a.blocks.capacity_bytes() + a.leaf_dops.capacity_bytes());
+  add("adaptive: test cells and members", a.cells.capacity_bytes() + a.members.capacity_bytes());
+  add("adaptive: scratch", a.scratch_bytes());
   add("pairs: registered leaves", p.registered.capacity_bytes());
   add("pairs: registered leaves' sort", p.order_keys.capacity_bytes() + p.order_keys_spare.capacity_bytes() +
                                            p.order_ids.capacity_bytes() + p.order_ids_spare.capacity_bytes());
@@ -400,6 +429,7 @@ void CudaBroadPhase::release_stage_buffers() {
   for (DeviceBuffer<std::uint32_t>* scratch : {&c.values, &c.values_sorted, &c.leaves}) scratch->release();
   c.keep.release();
   c.temp.release();
+  b.adaptive.release_scratch();
   b.pairs.order_keys.release();
   b.pairs.order_keys_spare.release();
   b.pairs.order_ids.release();
@@ -414,6 +444,7 @@ void CudaBroadPhase::release_buffers() {
   b.bounds = DevicePrimitiveBounds(stream_);
   b.subdivision = DeviceSubdivision(stream_);
   b.cells = DeviceCellLists(stream_);
+  b.adaptive = DeviceAdaptiveCells(stream_);
   b.pairs = DevicePairs(stream_);
   b.features = DeviceFeatures(stream_);
 }
@@ -423,9 +454,10 @@ std::unique_ptr<BroadPhase> make_cuda_broad_phase(BroadPhaseMethod method) { ret
 std::unique_ptr<CudaBroadPhase> CudaBroadPhase::create(BroadPhaseMethod method) {
   if (method == BroadPhaseMethod::kVirtualSubdivisionGrid) return std::make_unique<CudaBroadPhase>(true);
   if (method == BroadPhaseMethod::kLargestTriangleGrid) return std::make_unique<CudaBroadPhase>(false);
-  // The CPU's others: brute force, the box grid, the adaptive grid, sweep and prune.
+  if (method == BroadPhaseMethod::kAdaptiveGrid) return std::make_unique<CudaBroadPhase>(true, true);
+  // The CPU's others: brute force, the box grid, sweep and prune.
   throw UsageError(std::string("broad phase: the CUDA back end has no ") + broad_phase_method_name(method) +
-                   " broad phase (it has vss-grid and largest-grid)");
+                   " broad phase (it has vss-grid, largest-grid and adaptive-grid)");
 }
 
 }  // namespace snag

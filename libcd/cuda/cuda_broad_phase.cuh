@@ -7,6 +7,7 @@
 //   cell size, grid   exact fixed-point radius sum       (grid/radius_sum.hpp, grid/cell_size.cpp)
 //   subdivision       cuda/virtual_subdivision.cu       (subdivision/virtual_subdivision.cpp)
 //   registration      cuda/cell_registration.cu         (grid/cell_registration.cpp)
+//     or the adaptive grid's cells  cuda/adaptive_cells.cu (grid/adaptive_cells.cpp)
 //   tests, sort+unique cuda/pair_enumeration.cu         (broad_phase/virtual_subdivision_grid.cpp)
 //   features          cuda/representative_triangles.cu  (culling/representative_triangles.cpp)
 // The per-element math is the same SNAG_HD code, compiled without FMA
@@ -58,9 +59,11 @@ struct PairChunkPlan;          // pair_enumeration.cuh
 class CudaBroadPhase final : public BroadPhase {
  public:
   /// subdivide = true: the VSS grid; false: the cell fits the largest triangle.
-  explicit CudaBroadPhase(bool subdivide);
+  /// adaptive = true: its crowded cells subdivided (the adaptive grid,
+  /// cuda/adaptive_cells.cuh), as the CPU's VirtualSubdivisionGrid::Cells::kAdaptive.
+  explicit CudaBroadPhase(bool subdivide, bool adaptive = false);
   ~CudaBroadPhase() override;
-  /// For kVirtualSubdivisionGrid or kLargestTriangleGrid; UsageError for kBruteForce.
+  /// For kVirtualSubdivisionGrid, kLargestTriangleGrid or kAdaptiveGrid; UsageError for the others.
   static std::unique_ptr<CudaBroadPhase> create(BroadPhaseMethod method);
 
   /// As VirtualSubdivisionGrid::build; uploads topology and representatives.
@@ -124,7 +127,7 @@ class CudaBroadPhase final : public BroadPhase {
   /// (once the pair tests' copy of the leaves is queued).
   void release_stage_buffers();
 
-  bool subdivide_;
+  bool subdivide_, adaptive_;
   const Scene* scene_ = nullptr;
   BroadPhaseSettings settings_;
   BroadPhaseStats stats_;

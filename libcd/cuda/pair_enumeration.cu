@@ -25,6 +25,7 @@
 #include "libcd/core/error.hpp"
 #include "libcd/cuda/cuda_event.cuh"
 
+#include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
 #include "libcd/grid/control_bits.hpp"
 #include "libcd/grid/pair_index.hpp"
@@ -33,14 +34,13 @@ namespace snag {
 namespace {
 
 using detail::blocks_for;
+using detail::ensure_scratch;
+using detail::exclusive_sum;
+using detail::radix_bits;
 using detail::thread_item;
 
 /// Counter slots of the test kernel.
 enum Counter { kSameRoot, kTimeSlots, kControlBits, kExtended, kFallback, kPassed, kKept, kCulled, kCounters };
-
-void ensure(DeviceBuffer<unsigned char>& temp, std::size_t bytes) {
-  if (temp.size() < std::max<std::size_t>(bytes, 1)) temp.resize(std::max<std::size_t>(bytes, 1));
-}
 
 /// Sort keys of the registrations: cell rank above, root triangle below; the
 /// values are the leaf ids.
@@ -93,30 +93,113 @@ __global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells
   tiles[c] = pair_tile_count(n, i0, i1);
 }
 
+/// Tests of each adaptive test cell: the rows of its stuck members, [0,
+/// stuck), whatever the root range (the test kernel skips the tests of other
+/// ranges); as chunk_tests_kernel otherwise.
+__global__ void adaptive_tests_kernel(const TestCell* cells, std::size_t count, std::uint64_t* tests,
+                                      std::uint64_t* tiles, std::uint64_t* row_begin, std::uint64_t* row_end) {
+  const std::uint64_t c = thread_item();
+  if (c > count) return;
+  if (c == count) {
+    tests[c] = tiles[c] = 0;
+    return;
+  }
+  const std::uint64_t n = cells[c].count, stuck = cells[c].stuck;
+  row_begin[c] = 0;
+  row_end[c] = stuck;
+  tests[c] = pair_count(n) - pair_count(n - stuck);
+  tiles[c] = pair_tile_count(n, 0, stuck);
+}
+
 /// Buckets of the histogram of kept tests over a pass's root range.
 constexpr unsigned kHistogramBuckets = 1024;
 
-/// 4-byte words of a registered leaf (its fields are all 4-byte words), as a
-/// block copies a run of them into shared memory.
-constexpr unsigned kLeafWords = sizeof(RegisteredLeaf) / sizeof(std::uint32_t);
-static_assert(sizeof(RegisteredLeaf) % sizeof(std::uint32_t) == 0 && alignof(RegisteredLeaf) == 4,
-              "RegisteredLeaf: copied word by word");
+/// The uniform grid's cells as the tile kernel reads them: members are the
+/// registered leaves, the VSS control bits decide which cell tests a pair,
+/// and the roots' DOPs alone decide what is kept.
+struct UniformTileCells {
+  using Member = RegisteredLeaf;
+  struct Cell {
+    CellCoord coord;
+  };
+  const std::uint64_t* first;
+  const std::uint64_t* cell_ids;
+  const RegisteredLeaf* members;
+  GridSpec grid;
 
-/// A tile's run of leaves (rows or columns) in shared memory, with the float
+  __device__ std::uint64_t begin(std::uint64_t c) const { return first[c]; }
+  __device__ std::uint64_t size(std::uint64_t c) const { return first[c + 1] - first[c]; }
+  __device__ Cell cell(std::uint64_t c) const { return {grid_cell_coord(grid, cell_ids[c])}; }
+  __device__ CellPairVerdict verdict(const Member& a, const Member& b, const Cell& cell) const {
+    return cell_pair_verdict(a.cells, b.cells, cell.coord);
+  }
+  __device__ bool leaves_overlap(const Member&, const Member&) const { return true; }
+  /// A pass's rows hold only its tests (chunk_tests_kernel).
+  __device__ bool tile_may_hold(std::uint64_t, const PairTile&, std::uint32_t, std::uint32_t) const { return true; }
+};
+
+/// The adaptive grid's test cells (grid/adaptive_cells.hpp): a pair is tested
+/// in the one cell that owns it, and kept when the leaves' DOPs overlap as
+/// well as the roots' (the leaves' float boxes first, in shared memory).
+struct AdaptiveTileCells {
+  using Member = AdaptiveMember;
+  struct Cell {
+    CellCoord coord;
+    std::int32_t level;
+  };
+  const TestCell* cells;
+  const AdaptiveMember* members;
+  const Dop18* leaf_dops;
+  int depth;
+
+  __device__ std::uint64_t begin(std::uint64_t c) const { return cells[c].first; }
+  __device__ std::uint64_t size(std::uint64_t c) const { return cells[c].count; }
+  __device__ Cell cell(std::uint64_t c) const { return {cells[c].coord, cells[c].level}; }
+  __device__ CellPairVerdict verdict(const Member& a, const Member& b, const Cell& cell) const {
+    return adaptive_cell_owns_pair(a.block, b.block, depth, cell.level, cell.coord) ? CellPairVerdict::kTest
+                                                                                    : CellPairVerdict::kSkipControlBits;
+  }
+  __device__ bool leaves_overlap(const Member& a, const Member& b) const {
+    return leaf_boxes_may_overlap(a, b) && dop_overlap(leaf_dops[a.leaf], leaf_dops[b.leaf]);
+  }
+  /// False when no test of the tile of cell c has its smaller root in [lo,
+  /// hi). A cell's stuck and pushed members each ascend by root, so the rows
+  /// (stuck) and the columns (one run or two) span known roots, and the
+  /// smaller root of any of the tile's pairs lies between the smaller of the
+  /// two lowest and the smaller of the two highest.
+  __device__ bool tile_may_hold(std::uint64_t c, const PairTile& tile, std::uint32_t lo, std::uint32_t hi) const {
+    const TestCell& cell = cells[c];
+    const AdaptiveMember* m = members + cell.first;
+    const Index row_low = m[tile.row_begin].root, row_high = m[tile.row_end - 1].root;
+    Index column_low = m[tile.column_begin].root, column_high = m[tile.column_end - 1].root;
+    if (tile.column_begin < cell.stuck && tile.column_end > cell.stuck) {  // both runs
+      column_low = ::min(column_low, m[cell.stuck].root);
+      column_high = ::max(column_high, m[cell.stuck - 1].root);
+    }
+    return ::min(row_low, column_low) < hi && ::min(row_high, column_high) >= lo;
+  }
+};
+
+/// A tile's run of members (rows or columns) in shared memory, with the float
 /// boxes of their roots.
+template <class Member>
 struct TileSide {
-  RegisteredLeaf leaves[kPairTileSide];
+  static_assert(sizeof(Member) % sizeof(std::uint32_t) == 0 && alignof(Member) % 4 == 0,
+                "members are copied word by word");
+  static constexpr unsigned kWords = sizeof(Member) / sizeof(std::uint32_t);
+  Member members[kPairTileSide];
   FloatBox boxes[kPairTileSide];
 };
 
-/// Copies registered[begin, begin + count) and their roots' boxes into `side`
+/// Copies members[begin, begin + count) and their roots' boxes into `side`
 /// (every thread of the block takes part; the caller synchronizes after).
-__device__ void load_tile_side(const RegisteredLeaf* registered, std::uint64_t begin, unsigned count,
-                               const FloatBox* triangle_boxes, TileSide& side) {
-  const auto* from = reinterpret_cast<const std::uint32_t*>(registered + begin);
-  auto* to = reinterpret_cast<std::uint32_t*>(side.leaves);
-  for (unsigned w = threadIdx.x; w < count * kLeafWords; w += blockDim.x) to[w] = from[w];
-  for (unsigned k = threadIdx.x; k < count; k += blockDim.x) side.boxes[k] = triangle_boxes[registered[begin + k].root];
+template <class Member>
+__device__ void load_tile_side(const Member* members, std::uint64_t begin, unsigned count,
+                               const FloatBox* triangle_boxes, TileSide<Member>& side) {
+  const auto* from = reinterpret_cast<const std::uint32_t*>(members + begin);
+  auto* to = reinterpret_cast<std::uint32_t*>(side.members);
+  for (unsigned w = threadIdx.x; w < count * TileSide<Member>::kWords; w += blockDim.x) to[w] = from[w];
+  for (unsigned k = threadIdx.x; k < count; k += blockDim.x) side.boxes[k] = triangle_boxes[members[begin + k].root];
 }
 
 /// The tests of a chunk, tile by tile: each block strides over the tiles
@@ -125,27 +208,35 @@ __device__ void load_tile_side(const RegisteredLeaf* registered, std::uint64_t b
 /// their roots' float boxes into shared memory, and its threads run the
 /// tile's tests, row by row, with the CPU's filters in the CPU's order (the
 /// roots' DOP test after their float boxes': the same answer, see
-/// float_box.hpp). Each kept test adds one to its smaller root's bucket of the
-/// histogram over [range_first, ...) (in shared memory, added to `histogram`
-/// once per block). Counters are summed in registers and added with one
-/// atomic per warp at the end; kept (and, with count_culled, culled) root
-/// pairs are appended with one atomic per warp and round. Every thread of the
-/// block runs every round of a tile, so warp-wide operations see full warps.
+/// float_box.hpp); Cells (UniformTileCells, AdaptiveTileCells) gives the
+/// cell's own rule. Only the tests whose smaller root lies in [range_first,
+/// range_end) run (the uniform cells' rows hold no other), and a tile that
+/// Cells::tile_may_hold rules out is skipped whole. Each kept test
+/// adds one to its smaller root's bucket of the histogram over the range (in
+/// shared memory, added to `histogram` once per block). Counters are summed
+/// in registers and added with one atomic per warp at the end; kept (and,
+/// with count_culled, culled) root pairs are appended with one atomic per
+/// warp and round. Every thread of the block runs every round of a tile, so
+/// warp-wide operations see full warps.
+template <class Cells>
 __global__ void __launch_bounds__(detail::kBlockSize)
     test_kernel(std::uint64_t tiles, const std::uint64_t* first_tile, std::size_t cells,
-                const std::uint64_t* row_begin, const std::uint64_t* row_end, const std::uint64_t* first,
-                const std::uint64_t* cell_ids, const RegisteredLeaf* registered, GridSpec grid,
-                const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::uint32_t range_first,
-                std::uint32_t bucket_width, unsigned* histogram, std::uint64_t* kept, std::uint64_t kept_capacity,
-                bool count_culled, std::uint64_t* culled, std::uint64_t culled_capacity,
+                const std::uint64_t* row_begin, const std::uint64_t* row_end, Cells source, const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::uint32_t range_first,
+                std::uint32_t range_end, std::uint32_t bucket_width, unsigned* histogram, std::uint64_t* kept,
+                std::uint64_t kept_capacity, bool count_culled, std::uint64_t* culled, std::uint64_t culled_capacity,
                 unsigned long long* counters) {
+  using Member = typename Cells::Member;
+  using Cell = typename Cells::Cell;
+  using Side = TileSide<Member>;
   __shared__ unsigned block_histogram[kHistogramBuckets];
   // Raw storage: shared variables take no initializers, and the records have them.
-  __shared__ alignas(alignof(TileSide)) unsigned char side_storage[2 * sizeof(TileSide)];
+  __shared__ alignas(alignof(Side)) unsigned char side_storage[2 * sizeof(Side)];
+  __shared__ alignas(alignof(Cell)) unsigned char cell_storage[sizeof(Cell)];
   __shared__ std::uint64_t tile_cell, tile_rows[2], tile_columns[2];  // [begin, end) of each
-  __shared__ std::int32_t tile_cell_coord[3];
-  TileSide& rows = *reinterpret_cast<TileSide*>(side_storage);
-  TileSide& columns = *reinterpret_cast<TileSide*>(side_storage + sizeof(TileSide));
+  __shared__ bool tile_skipped;
+  Side& rows = *reinterpret_cast<Side*>(side_storage);
+  Side& columns = *reinterpret_cast<Side*>(side_storage + sizeof(Side));
+  Cell& tile_cell_info = *reinterpret_cast<Cell*>(cell_storage);
   for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
   if (threadIdx.x == 0) tile_cell = 0;
   unsigned same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culls = 0;
@@ -154,48 +245,45 @@ __global__ void __launch_bounds__(detail::kBlockSize)
     if (threadIdx.x == 0) {
       const std::uint64_t c = cell_of_work_item_from(first_tile, cells, tile_cell, t);
       tile_cell = c;
-      const CellCoord coord = grid_cell_coord(grid, cell_ids[c]);
-      tile_cell_coord[0] = coord.x;
-      tile_cell_coord[1] = coord.y;
-      tile_cell_coord[2] = coord.z;
-      const PairTile tile = pair_tile(first[c + 1] - first[c], row_begin[c], row_end[c], t - first_tile[c]);
+      tile_cell_info = source.cell(c);
+      const PairTile tile = pair_tile(source.size(c), row_begin[c], row_end[c], t - first_tile[c]);
       tile_rows[0] = tile.row_begin;
       tile_rows[1] = tile.row_end;
       tile_columns[0] = tile.column_begin;
       tile_columns[1] = tile.column_end;
+      tile_skipped = !source.tile_may_hold(c, tile, range_first, range_end);
     }
     __syncthreads();
-    const std::uint64_t c = tile_cell, cell_first = first[c];
+    if (tile_skipped) continue;  // no test of this pass's range (the whole block skips)
+    const std::uint64_t cell_first = source.begin(tile_cell);
     const auto row_count = static_cast<unsigned>(tile_rows[1] - tile_rows[0]);
     const auto column_count = static_cast<unsigned>(tile_columns[1] - tile_columns[0]);
     // Test (row, column) of the tile is the pair i < j of the cell where
     // j - i = offset + column - row (the offset is negative in a diagonal
     // tile whose first rows the chunk leaves out).
     const auto offset = static_cast<std::int64_t>(tile_columns[0]) - static_cast<std::int64_t>(tile_rows[0]);
-    load_tile_side(registered, cell_first + tile_rows[0], row_count, triangle_boxes, rows);
-    load_tile_side(registered, cell_first + tile_columns[0], column_count, triangle_boxes, columns);
+    load_tile_side(source.members, cell_first + tile_rows[0], row_count, triangle_boxes, rows);
+    load_tile_side(source.members, cell_first + tile_columns[0], column_count, triangle_boxes, columns);
     __syncthreads();
-    const CellCoord cell{tile_cell_coord[0], tile_cell_coord[1], tile_cell_coord[2]};
-    // Slot s = row * column_count + column; each round moves it on by the
-    // block's size, stepped without dividing.
-    const unsigned slots = row_count * column_count;
-    const unsigned row_step = blockDim.x / column_count, column_step = blockDim.x % column_count;
-    unsigned row = threadIdx.x / column_count, column = threadIdx.x % column_count;
-    for (unsigned base = 0; base < slots; base += blockDim.x) {
-      const unsigned s = base + threadIdx.x;
+    const Cell cell = tile_cell_info;
+    // One test of the tile; every thread of the block calls it once per
+    // round, with `valid` set where it has a test.
+    auto run_test = [&](bool valid, unsigned row, unsigned column) {
       bool keep = false, cull = false;
       std::uint64_t key = 0;
-      if (s < slots && offset + column > row) {  // i < j
-        const RegisteredLeaf& a = rows.leaves[row];
-        const RegisteredLeaf& b = columns.leaves[column];
+      if (valid) {
+        const Member& a = rows.members[row];
+        const Member& b = columns.members[column];
         const Index ra = a.root, rb = b.root;
         const Index low = ra < rb ? ra : rb;
-        if (ra == rb) {
+        if (low < range_first || low >= range_end) {
+          // another chunk's test
+        } else if (ra == rb) {
           ++same_root;
         } else if (!slots_nested(a, b)) {
           ++time_slots;
         } else {
-          switch (cell_pair_verdict(a.cells, b.cells, cell)) {
+          switch (source.verdict(a, b, cell)) {
             case CellPairVerdict::kSkipControlBits: ++control_bits; break;
             case CellPairVerdict::kSkipExtendedBits: ++extended; break;
             case CellPairVerdict::kTestFallback: ++fallback; [[fallthrough]];
@@ -204,7 +292,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
               key = pack_pair(ra, rb);
               // The float boxes first (in shared memory, most pairs apart
               // there); the DOPs (144 bytes each) only where the boxes meet.
-              if (float_boxes_may_overlap(rows.boxes[row], columns.boxes[column]) &&
+              if (float_boxes_may_overlap(rows.boxes[row], columns.boxes[column]) && source.leaves_overlap(a, b) &&
                   dop_overlap(triangle_dops[ra], triangle_dops[rb])) {
                 keep = true;
                 atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
@@ -224,11 +312,37 @@ __global__ void __launch_bounds__(detail::kBlockSize)
       } else {
         culls += cull ? 1 : 0;
       }
-      row += row_step;
-      column += column_step;
-      if (column >= column_count) {
-        column -= column_count;
-        ++row;
+    };
+    if (offset >= static_cast<std::int64_t>(row_count)) {
+      // Every column after every row: slot s = row * column_count + column,
+      // each a test; each round moves it on by the block's size, stepped
+      // without dividing.
+      const unsigned slots = row_count * column_count;
+      const unsigned row_step = blockDim.x / column_count, column_step = blockDim.x % column_count;
+      unsigned row = threadIdx.x / column_count, column = threadIdx.x % column_count;
+      for (unsigned base = 0; base < slots; base += blockDim.x) {
+        run_test(base + threadIdx.x < slots, row, column);
+        row += row_step;
+        column += column_step;
+        if (column >= column_count) {
+          column -= column_count;
+          ++row;
+        }
+      }
+    } else {
+      // A diagonal tile (offset = -d <= 0): row r is item q = r + d of the
+      // columns, and its tests are the columns j > q. They are the pairs of
+      // the columns numbered row by row (pair_from_index) from row d on: no
+      // round is spent on the slots on and below the diagonal.
+      const std::uint64_t d = static_cast<std::uint64_t>(-offset), m = column_count;
+      auto rows_before = [m](std::uint64_t q) { return q * (2 * m - q - 1) / 2; };
+      const std::uint64_t first = rows_before(d);
+      const std::uint64_t tests = rows_before(d + row_count < m ? d + row_count : m) - first;
+      for (std::uint64_t base = 0; base < tests; base += blockDim.x) {
+        const std::uint64_t k = base + threadIdx.x;
+        std::uint64_t q = d, j = 0;
+        if (k < tests) pair_from_index(m, first + k, q, j);
+        run_test(k < tests, static_cast<unsigned>(q - d), static_cast<unsigned>(j));
       }
     }
   }
@@ -249,12 +363,6 @@ __global__ void unpack_pairs_kernel(const std::uint64_t* keys, std::size_t n, Tr
   if (k < n) pairs[k] = unpack_pair(keys[k]);
 }
 
-int bits_for(std::uint64_t max_value) {
-  int bits = 1;
-  while (bits < 64 && (max_value >> bits) != 0) ++bits;
-  return bits;
-}
-
 /// Sorts the n keys of `keys` (using `spare`, as large, as the sort's other
 /// half) and removes duplicates; returns the unique count and sets `unique`
 /// to the buffer (keys or spare) that holds them.
@@ -265,13 +373,13 @@ std::size_t sort_unique(std::uint64_t* keys, std::uint64_t* spare, std::size_t n
   cub::DoubleBuffer<std::uint64_t> halves(keys, spare);
   std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, halves, n, 0, end_bit, stream));
-  ensure(p.temp, bytes);
+  ensure_scratch(p.temp, bytes);
   bytes = p.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(p.temp.data(), bytes, halves, n, 0, end_bit, stream));
   bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceSelect::Unique(nullptr, bytes, halves.Current(), halves.Alternate(),
                                             p.counters.data() + kCounters, n, stream));
-  ensure(p.temp, bytes);
+  ensure_scratch(p.temp, bytes);
   bytes = p.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceSelect::Unique(p.temp.data(), bytes, halves.Current(), halves.Alternate(),
                                             p.counters.data() + kCounters, n, stream));
@@ -340,11 +448,10 @@ void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& li
   SNAG_CUDA_CHECK_LAUNCH();
   cub::DoubleBuffer<std::uint64_t> keys(p.order_keys.data(), p.order_keys_spare.data());
   cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
-  const int end_bit = 32 + bits_for(cells > 0 ? cells - 1 : 0);
+  const int end_bit = 32 + radix_bits(cells > 0 ? cells - 1 : 0);
   std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, ids, registrations, 0, end_bit, stream));
-  check_growth(check, p.temp.growth_bytes(std::max<std::size_t>(bytes, 1)));
-  ensure(p.temp, bytes);
+  ensure_scratch(p.temp, bytes, check);
   bytes = p.temp.size();
   SNAG_CUDA_CHECK(
       cub::DeviceRadixSort::SortPairs(p.temp.data(), bytes, keys, ids, registrations, 0, end_bit, stream));
@@ -353,11 +460,17 @@ void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& li
   SNAG_CUDA_CHECK_LAUNCH();
 }
 
-void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
-                               const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                               PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
-                               const std::function<void(const TrianglePair*, std::size_t)>& visit) {
-  const std::size_t cells = lists.cells;
+namespace {
+
+/// The pair tests of `cells` cells of `source` (UniformTileCells,
+/// AdaptiveTileCells), pass by pass over root ranges (PairChunkPlan);
+/// number_rows(range) fills the cells' tests, tiles and rows for a range.
+/// As enumerate_pairs_on_device otherwise.
+template <class Cells, class NumberRows>
+void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& number_rows, const Dop18* triangle_dops,
+                    const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled, PairChunkPlan& plan,
+                    DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
+                    const std::function<void(const TrianglePair*, std::size_t)>& visit) {
   if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
     throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
   const auto triangle_end = static_cast<std::uint32_t>(triangle_count);
@@ -377,24 +490,15 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
     std::uint64_t tests = 0, tiles = 0;
   };
   auto number_tests = [&](RootRange range) {
-    chunk_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
-        lists.first.data(), cells, p.registered.data(), range.first, range.end, p.cell_tests.data(),
-        p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
-    SNAG_CUDA_CHECK_LAUNCH();
+    number_rows(range);
     std::size_t bytes = 0;
     SNAG_CUDA_CHECK(
         cub::DeviceReduce::Sum(nullptr, bytes, p.cell_tests.data(), p.test_total.data(), cells + 1, stream));
-    ensure(p.temp, bytes);
+    ensure_scratch(p.temp, bytes);
     bytes = p.temp.size();
     SNAG_CUDA_CHECK(
         cub::DeviceReduce::Sum(p.temp.data(), bytes, p.cell_tests.data(), p.test_total.data(), cells + 1, stream));
-    bytes = 0;
-    SNAG_CUDA_CHECK(
-        cub::DeviceScan::ExclusiveSum(nullptr, bytes, p.cell_tiles.data(), p.first_tile.data(), cells + 1, stream));
-    ensure(p.temp, bytes);
-    bytes = p.temp.size();
-    SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(p.temp.data(), bytes, p.cell_tiles.data(), p.first_tile.data(),
-                                                  cells + 1, stream));
+    exclusive_sum(p.cell_tiles.data(), p.first_tile.data(), cells + 1, p.temp, stream);
     Numbered counts;
     SNAG_CUDA_CHECK(cudaMemcpyAsync(&counts.tests, p.test_total.data(), sizeof(std::uint64_t),
                                     cudaMemcpyDeviceToHost, stream));
@@ -420,7 +524,7 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
   int device = 0, sms = 0, per_sm = 0;
   SNAG_CUDA_CHECK(cudaGetDevice(&device));
   SNAG_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
-  SNAG_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, test_kernel, detail::kBlockSize, 0));
+  SNAG_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, test_kernel<Cells>, detail::kBlockSize, 0));
   const auto resident_blocks = static_cast<std::uint64_t>(std::max(1, sms * std::max(1, per_sm)));
   // A warp's per-thread counts are summed in 32 bits: at most 2^27 rounds, a
   // tile's rounds at most kPairTileSide² / kBlockSize.
@@ -430,7 +534,7 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
 
   unsigned long long totals[kCounters] = {};
   std::size_t kept_total = 0, unique_total = 0, culled_total = 0, culled_unique_total = 0;
-  const int end_bit = 32 + bits_for(triangle_count > 0 ? triangle_count - 1 : 0);
+  const int end_bit = 32 + radix_bits(triangle_count > 0 ? triangle_count - 1 : 0);
   std::vector<unsigned> histogram(kHistogramBuckets);
   double seconds = 0;
   std::size_t culled_room =
@@ -463,11 +567,10 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
     unsigned long long counts[kCounters] = {};
     if (range_tests > 0) {
       const std::uint64_t blocks = std::min<std::uint64_t>(range_counts.tiles, resident_blocks);
-      test_kernel<<<static_cast<unsigned>(blocks), detail::kBlockSize, 0, stream>>>(
-          range_counts.tiles, p.first_tile.data(), cells, p.row_begin.data(), p.row_end.data(), lists.first.data(),
-          lists.cell_ids.data(),
-          p.registered.data(), grid, triangle_dops, triangle_boxes, range.first, bucket_width, p.histogram.data(),
-          p.kept.data(), kept_room, count_culled, p.culled.data(), culled_room, p.counters.data());
+      test_kernel<Cells><<<static_cast<unsigned>(blocks), detail::kBlockSize, 0, stream>>>(
+          range_counts.tiles, p.first_tile.data(), cells, p.row_begin.data(), p.row_end.data(), source, triangle_dops,
+          triangle_boxes, range.first, range.end, bucket_width, p.histogram.data(), p.kept.data(), kept_room,
+          count_culled, p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();
       p.counters.download(counts, kCounters);
       p.histogram.download(histogram.data(), kHistogramBuckets);
@@ -527,6 +630,40 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
   stats.duplicate_culled_tests = culled_total - culled_unique_total;
   stats.triangle_pairs = unique_total;
   stats.seconds_pairs = seconds;
+}
+
+}  // namespace
+
+void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
+                               const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
+                               PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
+                               const std::function<void(const TrianglePair*, std::size_t)>& visit) {
+  const std::size_t cells = lists.cells;
+  const UniformTileCells source{lists.first.data(), lists.cell_ids.data(), p.registered.data(), grid};
+  auto number_rows = [&](RootRange range) {
+    chunk_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
+        lists.first.data(), cells, p.registered.data(), range.first, range.end, p.cell_tests.data(),
+        p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+  };
+  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, plan, p,
+                 stream, stats, visit);
+}
+
+void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const Dop18* triangle_dops,
+                                        const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
+                                        PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
+                                        BroadPhaseStats& stats,
+                                        const std::function<void(const TrianglePair*, std::size_t)>& visit) {
+  const std::size_t cells = tree.cell_count;
+  const AdaptiveTileCells source{tree.cells.data(), tree.members.data(), tree.leaf_dops.data(), tree.depth};
+  auto number_rows = [&](RootRange) {
+    adaptive_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
+        tree.cells.data(), cells, p.cell_tests.data(), p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+  };
+  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, plan, p,
+                 stream, stats, visit);
 }
 
 }  // namespace snag

@@ -20,6 +20,7 @@
 #include "libcd/bounding_volume/dop18.hpp"
 #include "libcd/bounding_volume/float_box.hpp"
 #include "libcd/broad_phase/broad_phase.hpp"
+#include "libcd/cuda/adaptive_cells.cuh"
 #include "libcd/cuda/cell_registration.cuh"
 
 namespace snag {
@@ -105,5 +106,16 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
                                const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
                                PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream, BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit);
+
+/// As enumerate_pairs_on_device for the adaptive grid's test cells (from
+/// build_adaptive_cells_on_device): each cell tests the pairs with a stuck
+/// member that it owns, kept when the leaves' DOPs and the roots' DOPs
+/// overlap (the CPU's adaptive grid, broad_phase/virtual_subdivision_grid.cpp).
+/// A pass over a root range runs every tile and skips the tests of other ranges.
+void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const Dop18* triangle_dops,
+                                        const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
+                                        PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
+                                        BroadPhaseStats& stats,
+                                        const std::function<void(const TrianglePair*, std::size_t)>& visit);
 
 }  // namespace snag

@@ -32,11 +32,6 @@ std::vector<Registration> register_in_grid(const std::vector<FineBlock>& blocks,
   return regs;
 }
 
-/// True when the block spans at most two cells on every axis.
-bool fits_two_per_axis(const CellBlock& b) {
-  return b.hi.x - b.lo.x <= 1 && b.hi.y - b.lo.y <= 1 && b.hi.z - b.lo.z <= 1;
-}
-
 }  // namespace
 
 AdaptiveCells build_adaptive_cells(const std::vector<Leaf>& leaves, const GridSpec& grid, int max_depth,
@@ -67,9 +62,7 @@ AdaptiveCells build_adaptive_cells(const std::vector<Leaf>& leaves, const GridSp
       if (level == 0) {
         coord = grid_cell_coord(grid, key);
       } else {
-        const CellCoord parent = parents[key >> 3];
-        coord = {2 * parent.x + static_cast<std::int32_t>(key & 1), 2 * parent.y + static_cast<std::int32_t>((key >> 1) & 1),
-                 2 * parent.z + static_cast<std::int32_t>((key >> 2) & 1)};
+        coord = child_cell(parents[key >> 3], static_cast<unsigned>(key & 7));
       }
       const std::size_t n = end - begin;
       stuck.clear();
@@ -90,10 +83,7 @@ AdaptiveCells build_adaptive_cells(const std::vector<Leaf>& leaves, const GridSp
           }
           pushed.push_back(leaf);
           for (std::uint32_t octant = 0; octant < 8; ++octant) {
-            const CellCoord child{2 * coord.x + static_cast<std::int32_t>(octant & 1),
-                                  2 * coord.y + static_cast<std::int32_t>((octant >> 1) & 1),
-                                  2 * coord.z + static_cast<std::int32_t>((octant >> 2) & 1)};
-            if (block_contains(child_block, child)) next.push_back({parent_index * 8 + octant, leaf});
+            if (block_contains(child_block, child_cell(coord, octant))) next.push_back({parent_index * 8 + octant, leaf});
           }
         }
         out.stuck_registrations += stuck.size();

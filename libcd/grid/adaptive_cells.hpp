@@ -100,6 +100,18 @@ SNAG_HD_INLINE CellBlock block_at_level(const FineBlock& b, int depth, int level
   return {{b.lo.x >> s, b.lo.y >> s, b.lo.z >> s}, {b.hi.x >> s, b.hi.y >> s, b.hi.z >> s}};
 }
 
+/// True when the block spans at most two cells on every axis: a leaf whose
+/// block at the children's level fits so goes down into them.
+SNAG_HD_INLINE bool fits_two_per_axis(const CellBlock& b) {
+  return b.hi.x - b.lo.x <= 1 && b.hi.y - b.lo.y <= 1 && b.hi.z - b.lo.z <= 1;
+}
+
+/// Child `octant` (0..7: x in bit 0, y in bit 1, z in bit 2) of a cell, at the next level.
+SNAG_HD_INLINE CellCoord child_cell(CellCoord parent, unsigned octant) {
+  return {2 * parent.x + static_cast<std::int32_t>(octant & 1), 2 * parent.y + static_cast<std::int32_t>((octant >> 1) & 1),
+          2 * parent.z + static_cast<std::int32_t>((octant >> 2) & 1)};
+}
+
 /// True when the pair of leaves with fine blocks a and b, both listed in the
 /// test cell at `level` and `coord`, is tested there (the ownership rule
 /// above): their blocks meet and the low corner of the meeting lies in the cell.

@@ -27,7 +27,7 @@ void add_broad(BroadPhaseStats& total, const BroadPhaseStats& s) {
   total.cell_size = s.cell_size;
   std::copy(std::begin(s.grid_dims), std::end(s.grid_dims), std::begin(total.grid_dims));
   std::size_t BroadPhaseStats::*counters[] = {
-      &BroadPhaseStats::cells_used, &BroadPhaseStats::root_triangles, &BroadPhaseStats::triangles_subdivided,
+      &BroadPhaseStats::cells_used, &BroadPhaseStats::cells_subdivided, &BroadPhaseStats::root_triangles, &BroadPhaseStats::triangles_subdivided,
       &BroadPhaseStats::time_halvings, &BroadPhaseStats::oversized_leaves, &BroadPhaseStats::leaf_triangles,
       &BroadPhaseStats::registrations, &BroadPhaseStats::home_registrations,
       &BroadPhaseStats::phantom_registrations, &BroadPhaseStats::duplicate_registrations_removed,
@@ -40,6 +40,7 @@ void add_broad(BroadPhaseStats& total, const BroadPhaseStats& s) {
       &BroadPhaseStats::ee_after_culling, &BroadPhaseStats::candidates};
   for (auto field : counters) total.*field += s.*field;
   total.memory_bytes = std::max(total.memory_bytes, s.memory_bytes);
+  total.deepest_level = std::max(total.deepest_level, s.deepest_level);
   add_levels(total.triangles_per_level, s.triangles_per_level);
   add_levels(total.subdivided_per_level, s.subdivided_per_level);
   add_levels(total.halved_per_level, s.halved_per_level);

@@ -36,15 +36,18 @@ using test::expect_same_events;
 /// modes and the static test pair by pair, so that the counts match too.
 /// The default CPU back end (box grid, the static test by frame) gives the
 /// same events with other counts; SameScanOfTheSampleCache checks it as well.
-std::unique_ptr<Backend> make_cpu_backend_counting_like_cuda() {
-  return make_cpu_backend(CpuBackendOptions{BroadPhaseMethod::kVirtualSubdivisionGrid, false});
+std::unique_ptr<Backend> make_cpu_backend_counting_like_cuda(
+    BroadPhaseMethod method = BroadPhaseMethod::kVirtualSubdivisionGrid) {
+  return make_cpu_backend(CpuBackendOptions{method, false});
 }
 
-/// Both back ends bound to one scene with the same settings.
+/// Both back ends bound to one scene with the same settings and broad phase
+/// (the VSS grid, or the adaptive grid).
 struct BackendPair {
-  std::unique_ptr<Backend> cpu = make_cpu_backend_counting_like_cuda();
-  std::unique_ptr<Backend> gpu = make_cuda_backend();
-  BackendPair(const Scene& scene, const BackendSettings& settings) {
+  std::unique_ptr<Backend> cpu, gpu;
+  BackendPair(const Scene& scene, const BackendSettings& settings,
+              BroadPhaseMethod method = BroadPhaseMethod::kVirtualSubdivisionGrid)
+      : cpu(make_cpu_backend_counting_like_cuda(method)), gpu(make_cuda_backend(method)) {
     cpu->bind(scene, settings);
     gpu->bind(scene, settings);
   }
@@ -225,6 +228,33 @@ TEST_F(BackendEquality, SameEventsOnClothBall92To93) {
     pair.compare_step(m92.positions, m93.positions, where);
     pair.compare_frame(m93.positions, where);
   }
+}
+
+TEST_F(BackendEquality, AdaptiveGridGivesTheSameEventsAndCounts) {
+  // The adaptive grid on both back ends: the same events and counts, and the
+  // uniform grid's events (the grid changes the candidates, not the answers).
+  const test::PlyMesh m92 = test::read_binary_ply(test::shared_data_dir() + "/meshes/cloth_ball92.ply");
+  const test::PlyMesh m93 = test::read_binary_ply(test::shared_data_dir() + "/meshes/cloth_ball93.ply");
+  const Scene cloth({make_object("cloth_ball", static_cast<Index>(m92.positions.size()), m92.triangles)});
+  const BackendSettings settings = settings_with_certifier(true);
+  BackendPair adaptive(cloth, settings, BroadPhaseMethod::kAdaptiveGrid);
+  adaptive.compare_step(m92.positions, m93.positions, "cloth_ball92->93 adaptive");
+  adaptive.compare_frame(m93.positions, "cloth_ball93 adaptive");
+  std::vector<Event> uniform_events, adaptive_events;
+  auto uniform = make_cuda_backend();
+  uniform->bind(cloth, settings);
+  uniform->collisions(m92.positions, m93.positions, uniform_events);
+  adaptive.gpu->collisions(m92.positions, m93.positions, adaptive_events);
+  expect_same_events(uniform_events, adaptive_events, "cloth_ball92->93, uniform and adaptive GPU grids");
+  EXPECT_GT(adaptive.collisions_found, 0u);
+
+  const Soup soup = make_soup(4099, 3, 0.01, 77);
+  BackendPair soup_pair(soup.scene, settings, BroadPhaseMethod::kAdaptiveGrid);
+  for (std::size_t f = 0; f + 1 < soup.frames.size(); ++f) {
+    soup_pair.compare_step(soup.frames[f], soup.frames[f + 1], "soup step " + std::to_string(f) + " adaptive");
+    soup_pair.compare_frame(soup.frames[f + 1], "soup frame " + std::to_string(f + 1) + " adaptive");
+  }
+  EXPECT_GT(soup_pair.collisions_found + soup_pair.intersections_found, 0u);
 }
 
 }  // namespace

@@ -2,19 +2,23 @@
 // CPU VirtualSubdivisionGrid: the same sorted VF, EE and triangle-pair vectors
 // and the same counts, on random soups with very uneven triangles, fast movers
 // forcing time halving, thickness > 0, crowded cells (whole and in chunks), the
-// samples, and the reference frames cloth_ball92 -> 93. Also: the exact radius sum does not depend on order.
+// samples, and the reference frames cloth_ball92 -> 93; the same for the
+// adaptive grid, whose hierarchy of crowded cells is also compared cell by
+// cell with the CPU's. Also: the exact radius sum does not depend on order.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gpu_test.hpp"
 #include "io/open_cache.hpp"
 #include "libcd/broad_phase/virtual_subdivision_grid.hpp"
 #include "libcd/core/error.hpp"
+#include "libcd/cuda/adaptive_cells.cuh"
 #include "libcd/cuda/cuda_broad_phase.cuh"
 #include "libcd/cuda/cuda_broad_phase.hpp"
 #include "libcd/grid/pair_index.hpp"
@@ -77,6 +81,8 @@ void expect_same_counts(const BroadPhaseStats& cpu, const BroadPhaseStats& gpu) 
   EXPECT_EQ(cpu.cell_size, gpu.cell_size);
   for (int a = 0; a < 3; ++a) EXPECT_EQ(cpu.grid_dims[a], gpu.grid_dims[a]);
   EXPECT_EQ(cpu.cells_used, gpu.cells_used);
+  EXPECT_EQ(cpu.cells_subdivided, gpu.cells_subdivided);
+  EXPECT_EQ(cpu.deepest_level, gpu.deepest_level);
   EXPECT_EQ(cpu.root_triangles, gpu.root_triangles);
   EXPECT_EQ(cpu.triangles_subdivided, gpu.triangles_subdivided);
   EXPECT_EQ(cpu.time_halvings, gpu.time_halvings);
@@ -111,8 +117,10 @@ void expect_same_counts(const BroadPhaseStats& cpu, const BroadPhaseStats& gpu) 
 /// Returns the number of CCD candidates (so callers can check the case is not trivial).
 std::size_t expect_gpu_equals_cpu(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                                   BroadPhaseMethod method, const BroadPhaseSettings& settings) {
-  const bool subdivide = method == BroadPhaseMethod::kVirtualSubdivisionGrid;
-  VirtualSubdivisionGrid cpu(subdivide);
+  const bool subdivide = method != BroadPhaseMethod::kLargestTriangleGrid;
+  VirtualSubdivisionGrid cpu(subdivide, method == BroadPhaseMethod::kAdaptiveGrid
+                                            ? VirtualSubdivisionGrid::Cells::kAdaptive
+                                            : VirtualSubdivisionGrid::Cells::kUniform);
   const std::unique_ptr<BroadPhase> gpu = make_cuda_broad_phase(method);
   cpu.build(scene, settings);
   gpu->build(scene, settings);
@@ -162,8 +170,8 @@ TEST(CudaBroadPhaseCellSize, ExactRadiusSumIgnoresOrder) {
 }
 
 TEST(CudaBroadPhaseFactory, RejectsTheCpuOnlyMethodsNamingThem) {
-  for (BroadPhaseMethod method : {BroadPhaseMethod::kBruteForce, BroadPhaseMethod::kBoxGrid,
-                                  BroadPhaseMethod::kAdaptiveGrid, BroadPhaseMethod::kSweepAndPrune}) {
+  for (BroadPhaseMethod method :
+       {BroadPhaseMethod::kBruteForce, BroadPhaseMethod::kBoxGrid, BroadPhaseMethod::kSweepAndPrune}) {
     try {
       make_cuda_broad_phase(method);
       ADD_FAILURE() << broad_phase_method_name(method) << " was accepted";
@@ -193,6 +201,7 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuOnStaticUnevenSoups) {
     SCOPED_TRACE(seed);
     expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, {});
     expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kLargestTriangleGrid, {});
+    expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kAdaptiveGrid, {});
   }
 }
 
@@ -209,6 +218,7 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuWithFastMoversAndTimeHalving) {
     EXPECT_GT(expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, {}),
               0u);
     expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kLargestTriangleGrid, {});
+    EXPECT_GT(expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kAdaptiveGrid, {}), 0u);
   }
 }
 
@@ -219,10 +229,25 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuWithThicknessAndSafetyLimits) {
   expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, settings);
   settings.count_culled_duplicates = true;
   expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, settings);
+  expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kAdaptiveGrid, settings);
   settings.max_subdivision_levels = 1;
   settings.max_time_halvings = 1;
   settings.lambda = 1.05;
   expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, settings);
+  settings.adaptive_cell_limit = 2;  // every cell of more than two leaves split, to the deepest level
+  settings.adaptive_max_depth = 8;
+  expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kAdaptiveGrid, settings);
+}
+
+TEST_F(CudaBroadPhaseTest, RejectsBadAdaptiveSettings) {
+  const Soup soup = random_soup(1, 50, false);
+  const auto gpu = make_cuda_broad_phase(BroadPhaseMethod::kAdaptiveGrid);
+  BroadPhaseSettings bad;
+  bad.adaptive_cell_limit = 1;
+  EXPECT_THROW(gpu->build(soup.scene, bad), UsageError);
+  bad = BroadPhaseSettings{};
+  bad.adaptive_max_depth = kMaxAdaptiveDepth + 1;
+  EXPECT_THROW(gpu->build(soup.scene, bad), UsageError);
 }
 
 // n triangles of one size crowded into a unit cube, drifting a little: cells
@@ -271,6 +296,98 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuWhereCellsHoldManyTiles) {
   expect_same_counts(crowd, chunked->stats());
 }
 
+TEST_F(CudaBroadPhaseTest, AdaptiveGridMatchesCpuWhereCellsAreCrowded) {
+  const Soup soup = crowded_soup(31, 6000);
+  VirtualSubdivisionGrid probe(true, VirtualSubdivisionGrid::Cells::kAdaptive);
+  probe.build(soup.scene, {});
+  std::vector<VertexFaceCandidate> vf;
+  std::vector<EdgeEdgeCandidate> ee;
+  probe.detect_ccd(soup.x_t0, soup.x_t1, vf, ee);
+  const BroadPhaseStats& crowd = probe.stats();
+  ASSERT_GT(crowd.cells_subdivided, 100u) << "the case must split crowded cells";
+  ASSERT_GE(crowd.deepest_level, 2);
+  expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kAdaptiveGrid, {});
+
+  // In chunks of a few percent of the kept tests: every pass runs every tile
+  // and keeps its own root range; the same candidates and counts.
+  auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kAdaptiveGrid);
+  chunked->build(soup.scene, {});
+  chunked->set_chunk_rooms(crowd.triangle_pairs / 25 + 8, vf.size() + ee.size() + 16);
+  std::vector<VertexFaceCandidate> vf_chunked;
+  std::vector<EdgeEdgeCandidate> ee_chunked;
+  chunked->detect_ccd(soup.x_t0, soup.x_t1, vf_chunked, ee_chunked);
+  EXPECT_GT(chunked->last_chunks(), 10u);
+  EXPECT_EQ(vf_chunked, vf);
+  EXPECT_EQ(ee_chunked, ee);
+  expect_same_counts(crowd, chunked->stats());
+}
+
+/// The GPU's hierarchy of crowded cells against build_adaptive_cells: the same
+/// test cells in the same order, the same members (each cell's stuck and
+/// pushed ones by root on the GPU, stably: the CPU's by leaf id), the same counts.
+void expect_same_hierarchy(const std::vector<Leaf>& leaves, const GridSpec& grid, int depth, std::size_t limit) {
+  SCOPED_TRACE("depth " + std::to_string(depth) + ", cell limit " + std::to_string(limit));
+  const AdaptiveCells cpu = build_adaptive_cells(leaves, grid, depth, limit);
+  DeviceBuffer<Leaf> d_leaves(0);
+  d_leaves.upload(leaves);
+  DeviceAdaptiveCells gpu(nullptr);
+  build_adaptive_cells_on_device(d_leaves.data(), leaves.size(), grid, depth, limit, gpu, nullptr);
+  SNAG_CUDA_CHECK(cudaDeviceSynchronize());
+  EXPECT_EQ(gpu.registrations, cpu.registrations);
+  EXPECT_EQ(gpu.cells_subdivided, cpu.cells_subdivided);
+  EXPECT_EQ(gpu.stuck_registrations, cpu.stuck_registrations);
+  EXPECT_EQ(gpu.deepest_level, cpu.deepest_level);
+  std::vector<FineBlock> blocks(leaves.size());
+  gpu.blocks.download(blocks.data(), blocks.size());
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
+    ASSERT_TRUE(blocks[i].lo == cpu.blocks[i].lo && blocks[i].hi == cpu.blocks[i].hi) << "leaf " << i;
+  }
+  ASSERT_EQ(gpu.cell_count, cpu.cells.size());
+  ASSERT_EQ(gpu.member_count, cpu.members.size());
+  std::vector<TestCell> cells(gpu.cell_count);
+  std::vector<AdaptiveMember> members(gpu.member_count);
+  gpu.cells.download(cells.data(), cells.size());
+  gpu.members.download(members.data(), members.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const TestCell &g = cells[c], &e = cpu.cells[c];
+    ASSERT_TRUE(g.first == e.first && g.count == e.count && g.stuck == e.stuck && g.coord == e.coord &&
+                g.level == e.level)
+        << "test cell " << c << ": GPU (" << g.first << ", " << g.count << ", " << g.stuck << ", level " << g.level
+        << "), CPU (" << e.first << ", " << e.count << ", " << e.stuck << ", level " << e.level << ")";
+  }
+  std::vector<std::uint32_t> expected = cpu.members;
+  for (const TestCell& cell : cpu.cells) {
+    auto by_root = [&](std::uint32_t x, std::uint32_t y) { return leaves[x].triangle.root < leaves[y].triangle.root; };
+    const auto begin = expected.begin() + static_cast<std::ptrdiff_t>(cell.first);
+    std::stable_sort(begin, begin + cell.stuck, by_root);
+    std::stable_sort(begin + cell.stuck, begin + cell.count, by_root);
+  }
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    const Leaf& leaf = leaves[expected[m]];
+    ASSERT_EQ(members[m].leaf, expected[m]) << "member " << m;
+    ASSERT_EQ(members[m].root, leaf.triangle.root) << "member " << m;
+    ASSERT_TRUE(members[m].slot_depth == leaf.triangle.slot_depth && members[m].slot_index == leaf.triangle.slot_index &&
+                members[m].block.lo == cpu.blocks[expected[m]].lo)
+        << "member " << m;
+  }
+}
+
+TEST_F(CudaBroadPhaseTest, AdaptiveHierarchyIsTheCpusCellByCell) {
+  const Soup crowd = crowded_soup(41, 3000);
+  const Soup uneven = random_soup(42, 3000, true);
+  for (const Soup* soup : {&crowd, &uneven}) {
+    VirtualSubdivisionGrid cpu(true);
+    cpu.build(soup->scene, {});
+    std::vector<VertexFaceCandidate> vf;
+    std::vector<EdgeEdgeCandidate> ee;
+    cpu.detect_ccd(soup->x_t0, soup->x_t1, vf, ee);
+    for (const auto& [depth, limit] : std::vector<std::pair<int, std::size_t>>{
+             {4, 64}, {0, 64}, {8, 2}, {2, 1000000}, {3, 16}}) {
+      expect_same_hierarchy(cpu.leaves(), cpu.grid(), depth, limit);
+    }
+  }
+}
+
 TEST_F(CudaBroadPhaseTest, MatchesCpuOnSamples) {
   io::CacheOptions options;
   const std::string dir = samples_dir() + "/cloth_ball/";
@@ -302,6 +419,7 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuOnClothBall92To93) {
   thick.thickness = 1e-3;
   expect_gpu_equals_cpu(scene, m92.positions, m93.positions, BroadPhaseMethod::kVirtualSubdivisionGrid, thick);
   expect_gpu_equals_cpu(scene, m92.positions, m93.positions, BroadPhaseMethod::kLargestTriangleGrid, {});
+  EXPECT_GT(expect_gpu_equals_cpu(scene, m92.positions, m93.positions, BroadPhaseMethod::kAdaptiveGrid, {}), 0u);
 }
 
 }  // namespace

@@ -279,6 +279,23 @@ TEST(SnagScan, OneThreadAndTwoThreadsGiveIdenticalEvents) {
   EXPECT_TRUE(one["summary"] == two["summary"]);
 }
 
+TEST(SnagScan, AdaptiveGridGivesTheUniformGridsEventsAndSaysWhatItSplit) {
+  const json& uniform = window_scan().report;
+  const json& adaptive =
+      scan(with(sample_pc2_inputs(), with({"--threads", "2", "--grid", "adaptive", "--backend", "cpu"}, kWindow))).report;
+  EXPECT_TRUE(adaptive["events"] == uniform["events"]);
+  EXPECT_TRUE(adaptive["regions"] == uniform["regions"]);
+  EXPECT_TRUE(adaptive["summary"] == uniform["summary"]);
+  for (const char* stage : {"ccd_broad_phase", "static_broad_phase"}) {
+    const json& split = adaptive["trailer"]["stages"][stage];
+    const json& plain = uniform["trailer"]["stages"][stage];
+    EXPECT_GT(split["cells_subdivided"].get<std::size_t>(), 0u) << stage;  // the folded cloth crowds cells
+    EXPECT_GE(split["deepest_level"].get<int>(), 1) << stage;
+    EXPECT_EQ(plain["cells_subdivided"], 0) << stage;
+    EXPECT_EQ(plain["deepest_level"], 0) << stage;
+  }
+}
+
 TEST(SnagScan, PointCachesAndObjSequenceGiveIdenticalEvents) {
   const json& pc2 = window_scan().report;
   const json& obj = scan(with({kObjPattern, "--threads", "2"}, kWindow)).report;

@@ -12,6 +12,8 @@ json broad_json(const BroadPhaseStats& s) {
   return {{"cell_size", s.cell_size},
           {"grid", {s.grid_dims[0], s.grid_dims[1], s.grid_dims[2]}},
           {"cells_used", s.cells_used},
+          {"cells_subdivided", s.cells_subdivided},
+          {"deepest_level", s.deepest_level},
           {"root_triangles", s.root_triangles},
           {"triangles_subdivided", s.triangles_subdivided},
           {"subdivision_levels", s.triangles_per_level.empty() ? 0 : s.triangles_per_level.size() - 1},

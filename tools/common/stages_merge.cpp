@@ -14,7 +14,7 @@ namespace {
 
 // Keys a scan keeps from its last step or frame, and keys that are peaks.
 const std::set<std::string> kLastValue = {"cell_size", "grid"};
-const std::set<std::string> kLargest = {"peak_memory_bytes", "subdivision_levels"};
+const std::set<std::string> kLargest = {"peak_memory_bytes", "subdivision_levels", "deepest_level"};
 
 void add_into(json& total, const json& part) {
   if (total.is_object()) {
