@@ -151,13 +151,13 @@ __global__ void emit_cells_kernel(const std::uint64_t* run_first, std::size_t ru
   if (counts[c].crowded != 0) next_parents[offset[c].crowded] = coord[c];
 }
 
-/// Per registration: its member record in its test cell (stuck ones first,
-/// each part in leaf order) and its registrations in the children.
+/// Per registration: its leaf's place among its test cell's members (stuck
+/// ones first, each part in leaf order) and its registrations in the children.
 __global__ void emit_registrations_kernel(const std::uint64_t* run_first, std::size_t runs, const std::uint32_t* values,
-                                          std::size_t total, const Leaf* leaves, const FineBlock* blocks,
+                                          std::size_t total, const FineBlock* blocks,
                                           const RegistrationFate* reg_offset, const CellFate* counts,
                                           const CellFate* offset, const CellCoord* coord, int depth, int level,
-                                          std::uint64_t cell_limit, AdaptiveMember* members, std::uint64_t* next_keys,
+                                          std::uint64_t cell_limit, std::uint32_t* members, std::uint64_t* next_keys,
                                           std::uint32_t* next_values) {
   const std::uint64_t r = thread_item();
   if (r >= total) return;
@@ -170,10 +170,7 @@ __global__ void emit_registrations_kernel(const std::uint64_t* run_first, std::s
     const std::uint64_t stuck_before = reg_offset[r].stuck - reg_offset[begin].stuck;
     const std::uint64_t cell_stuck = reg_offset[end].stuck - reg_offset[begin].stuck;
     const std::uint64_t position = stuck ? stuck_before : cell_stuck + (r - begin) - stuck_before;
-    const VirtualTriangle& t = leaves[leaf].triangle;
-    const FloatBox box = float_box_of(leaves[leaf].dop);
-    members[offset[c].members + position] = AdaptiveMember{
-        t.root, t.slot_depth, t.slot_index, leaf, block, {box.lo[0], box.lo[1], box.lo[2]}, {box.hi[0], box.hi[1], box.hi[2]}};
+    members[offset[c].members + position] = leaf;
   }
   if (stuck) return;
   const Descent d = descent(block, depth, level, end - begin, cell_limit);
@@ -187,8 +184,8 @@ __global__ void emit_registrations_kernel(const std::uint64_t* run_first, std::s
 }
 
 /// Sort keys of the members, cell by cell: (test cell, stuck or pushed, root).
-__global__ void member_keys_kernel(const TestCell* cells, std::size_t cell_count, const AdaptiveMember* members,
-                                   std::size_t member_count, std::uint64_t* keys, std::uint32_t* ids) {
+__global__ void member_keys_kernel(const TestCell* cells, std::size_t cell_count, const std::uint32_t* member_leaves,
+                                   std::size_t member_count, const Leaf* leaves, std::uint64_t* keys) {
   const std::uint64_t m = thread_item();
   if (m >= member_count) return;
   std::uint64_t lo = 0, hi = cell_count;  // the cell c with cells[c].first <= m < its end
@@ -197,14 +194,19 @@ __global__ void member_keys_kernel(const TestCell* cells, std::size_t cell_count
     if (cells[mid].first <= m) lo = mid; else hi = mid;
   }
   const std::uint64_t pushed = m - cells[lo].first >= cells[lo].stuck ? 1 : 0;
-  keys[m] = (lo << 33) | (pushed << 32) | members[m].root;
-  ids[m] = static_cast<std::uint32_t>(m);
+  keys[m] = (lo << 33) | (pushed << 32) | leaves[member_leaves[m]].triangle.root;
 }
 
-__global__ void gather_members_kernel(const AdaptiveMember* members, const std::uint32_t* ids, std::size_t count,
-                                      AdaptiveMember* out) {
+/// The members' records, from their leaves.
+__global__ void member_records_kernel(const std::uint32_t* member_leaves, std::size_t count, const Leaf* leaves,
+                                      const FineBlock* blocks, AdaptiveMember* members) {
   const std::uint64_t m = thread_item();
-  if (m < count) out[m] = members[ids[m]];
+  if (m >= count) return;
+  const std::uint32_t leaf = member_leaves[m];
+  const VirtualTriangle& t = leaves[leaf].triangle;
+  const FloatBox box = float_box_of(leaves[leaf].dop);
+  members[m] = AdaptiveMember{t.root, t.slot_depth, t.slot_index, leaf, blocks[leaf],
+                              {box.lo[0], box.lo[1], box.lo[2]}, {box.hi[0], box.hi[1], box.hi[2]}};
 }
 
 template <class T, class Op>
@@ -220,7 +222,8 @@ void exclusive_scan(const T* in, T* out, std::size_t n, Op op, DeviceBuffer<unsi
 }  // namespace
 
 std::size_t DeviceAdaptiveCells::scratch_bytes() const {
-  return cells_spare.capacity_bytes() + members_spare.capacity_bytes() + keys.capacity_bytes() +
+  return cells_spare.capacity_bytes() + member_leaves.capacity_bytes() + member_leaves_spare.capacity_bytes() +
+         keys.capacity_bytes() +
          keys_sorted.capacity_bytes() + run_keys.capacity_bytes() + run_length.capacity_bytes() +
          run_first.capacity_bytes() + values.capacity_bytes() + values_sorted.capacity_bytes() +
          run_coord.capacity_bytes() + parents.capacity_bytes() + next_parents.capacity_bytes() +
@@ -230,7 +233,8 @@ std::size_t DeviceAdaptiveCells::scratch_bytes() const {
 
 void DeviceAdaptiveCells::release_scratch() {
   cells_spare.release();
-  members_spare.release();
+  member_leaves.release();
+  member_leaves_spare.release();
   for (DeviceBuffer<std::uint64_t>* b : {&keys, &keys_sorted, &run_keys, &run_length, &run_first}) b->release();
   values.release();
   values_sorted.release();
@@ -358,7 +362,8 @@ void build_adaptive_cells_on_device(const Leaf* leaves, std::size_t leaf_count, 
     // crowded cells; the next level's registrations (in keys and values,
     // which the sort has read).
     grow_keeping(out.cells, out.cells_spare, out.cell_count, out.cell_count + level_counts.cells, check);
-    grow_keeping(out.members, out.members_spare, out.member_count, out.member_count + level_counts.members, check);
+    grow_keeping(out.member_leaves, out.member_leaves_spare, out.member_count,
+                 out.member_count + level_counts.members, check);
     grow(out.next_parents, level_counts.crowded);
     grow(out.keys, reg_totals.children);
     grow(out.values, reg_totals.children);
@@ -367,9 +372,9 @@ void build_adaptive_cells_on_device(const Leaf* leaves, std::size_t leaf_count, 
         out.run_coord.data(), level, out.cells.data() + out.cell_count, out.member_count, out.next_parents.data());
     SNAG_CUDA_CHECK_LAUNCH();
     emit_registrations_kernel<<<blocks_for(total), detail::kBlockSize, 0, stream>>>(
-        out.run_first.data(), runs, out.values_sorted.data(), total, leaves, out.blocks.data(), out.reg_offset.data(),
+        out.run_first.data(), runs, out.values_sorted.data(), total, out.blocks.data(), out.reg_offset.data(),
         out.cell_counts.data(), out.cell_offset.data(), out.run_coord.data(), depth, level, cell_limit,
-        out.members.data() + out.member_count, out.keys.data(), out.values.data());
+        out.member_leaves.data() + out.member_count, out.keys.data(), out.values.data());
     SNAG_CUDA_CHECK_LAUNCH();
     out.cell_count += level_counts.cells;
     out.member_count += level_counts.members;
@@ -380,31 +385,30 @@ void build_adaptive_cells_on_device(const Leaf* leaves, std::size_t leaf_count, 
 
   // Each cell's stuck and pushed members by root (stable: leaf order among
   // leaves of one root), so that a tile's rows and columns cover few roots
-  // and a pass over a root range skips the tiles that hold none of its tests.
+  // and a pass over a root range skips the tiles that hold none of its tests;
+  // then their records, once, in exactly the room they need.
   const std::size_t n = out.member_count;
+  grow(out.members, n);
   if (n == 0) return;
   grow(out.keys, n);
   grow(out.keys_sorted, n);
-  grow(out.values, n);
   grow(out.values_sorted, n);
-  member_keys_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(out.cells.data(), out.cell_count,
-                                                                      out.members.data(), n, out.keys.data(),
-                                                                      out.values.data());
+  member_keys_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(
+      out.cells.data(), out.cell_count, out.member_leaves.data(), n, leaves, out.keys.data());
   SNAG_CUDA_CHECK_LAUNCH();
   const int end_bit = 33 + radix_bits(out.cell_count - 1);
   std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, out.keys.data(), out.keys_sorted.data(),
-                                                  out.values.data(), out.values_sorted.data(), n, 0, end_bit, stream));
+                                                  out.member_leaves.data(), out.values_sorted.data(), n, 0, end_bit,
+                                                  stream));
   ensure_scratch(out.temp, bytes, check);
   bytes = out.temp.size();
   SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(out.temp.data(), bytes, out.keys.data(), out.keys_sorted.data(),
-                                                  out.values.data(), out.values_sorted.data(), n, 0, end_bit, stream));
-  grow(out.members_spare, n);
-  gather_members_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(out.members.data(),
-                                                                         out.values_sorted.data(), n,
-                                                                         out.members_spare.data());
+                                                  out.member_leaves.data(), out.values_sorted.data(), n, 0, end_bit,
+                                                  stream));
+  member_records_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(out.values_sorted.data(), n, leaves,
+                                                                         out.blocks.data(), out.members.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  std::swap(out.members, out.members_spare);
 }
 
 }  // namespace snag

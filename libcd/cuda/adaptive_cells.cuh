@@ -73,12 +73,13 @@ struct DeviceAdaptiveCells {
   int depth = 0;
   DeviceBuffer<FineBlock> blocks;         ///< #leaves fine blocks
   DeviceBuffer<Dop18> leaf_dops;          ///< #leaves: the leaves' DOPs, which the tests compare
-  DeviceBuffer<TestCell> cells, cells_spare;          ///< cells with at least one test
-  DeviceBuffer<AdaptiveMember> members, members_spare;  ///< cell by cell
+  DeviceBuffer<TestCell> cells, cells_spare;  ///< cells with at least one test
+  DeviceBuffer<AdaptiveMember> members;       ///< cell by cell, each cell's stuck and pushed ones by root
   std::size_t cell_count = 0, member_count = 0;
   std::size_t registrations = 0, cells_subdivided = 0, stuck_registrations = 0;
   int deepest_level = 0;
-  // scratch, per level
+  // scratch
+  DeviceBuffer<std::uint32_t> member_leaves, member_leaves_spare;  ///< the members' leaf ids, level by level
   DeviceBuffer<std::uint64_t> keys, keys_sorted, run_keys, run_length, run_first;
   DeviceBuffer<std::uint32_t> values, values_sorted;
   DeviceBuffer<CellCoord> run_coord, parents, next_parents;
@@ -89,7 +90,7 @@ struct DeviceAdaptiveCells {
 
   explicit DeviceAdaptiveCells(cudaStream_t stream)
       : blocks(0, stream), leaf_dops(0, stream), cells(0, stream), cells_spare(0, stream), members(0, stream),
-        members_spare(0, stream), keys(0, stream), keys_sorted(0, stream), run_keys(0, stream),
+        member_leaves(0, stream), member_leaves_spare(0, stream), keys(0, stream), keys_sorted(0, stream), run_keys(0, stream),
         run_length(0, stream), run_first(0, stream), values(0, stream), values_sorted(0, stream),
         run_coord(0, stream), parents(0, stream), next_parents(0, stream), reg_counts(0, stream),
         reg_offset(0, stream), cell_counts(0, stream), cell_offset(0, stream), counters(0, stream), temp(0, stream) {}
