@@ -223,8 +223,7 @@ void exclusive_scan(const T* in, T* out, std::size_t n, Op op, DeviceBuffer<unsi
 
 std::size_t DeviceAdaptiveCells::scratch_bytes() const {
   return cells_spare.capacity_bytes() + member_leaves.capacity_bytes() + member_leaves_spare.capacity_bytes() +
-         keys.capacity_bytes() +
-         keys_sorted.capacity_bytes() + run_keys.capacity_bytes() + run_length.capacity_bytes() +
+         keys.capacity_bytes() + keys_sorted.capacity_bytes() + run_keys.capacity_bytes() + run_length.capacity_bytes() +
          run_first.capacity_bytes() + values.capacity_bytes() + values_sorted.capacity_bytes() +
          run_coord.capacity_bytes() + parents.capacity_bytes() + next_parents.capacity_bytes() +
          reg_counts.capacity_bytes() + reg_offset.capacity_bytes() + cell_counts.capacity_bytes() +

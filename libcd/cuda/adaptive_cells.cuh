@@ -1,7 +1,7 @@
 // The adaptive grid's hierarchy of crowded cells on the GPU, the CUDA twin of
 // libcd/grid/adaptive_cells.cpp: the same test cells, in the same order
-// (level by level, by key), with the same members (stuck ones first, each
-// part by leaf id), and the same counts.
+// (level by level, by key), with the same members (stuck ones first), and
+// the same counts.
 //
 // Level by level, over (key, leaf) registrations generated in leaf order
 // within each key: one stable radix sort by key, the runs of equal keys (the
@@ -10,9 +10,10 @@
 // into the children it meets, with prefix sums placing every output: the
 // test cells and their members, the crowded cells (the next level's parents)
 // and the next level's registrations (key = crowded index · 8 + octant).
-// At the end each cell's stuck and pushed members are ordered by root (the
-// CPU's are by leaf id): the tests are the same, and a pass of the pair tests
-// over a root range skips the tiles whose rows and columns hold none of its.
+// The levels place the members' leaf ids; at the end each cell's stuck and
+// pushed members are ordered by root (the CPU's are by leaf id) and their
+// records built: the tests are the same, and a pass of the pair tests over a
+// root range skips the tiles whose rows and columns hold none of its.
 #pragma once
 
 #include <cuda_runtime_api.h>

@@ -7,7 +7,9 @@
 // the tile's tests from there with the same filters as the CPU (same root,
 // time slots, control bits and extended control bits, root 18-DOPs),
 // appending the root pairs; a device sort + unique gives the exact set of
-// triangle pairs, ordered as the CPU's.
+// triangle pairs, ordered as the CPU's. The adaptive grid's test cells
+// (adaptive_cells.cuh) run through the same tiles, with the CPU adaptive
+// grid's rule (the cell that owns a pair tests it; leaf and root DOPs).
 #pragma once
 
 #include <cuda_runtime_api.h>
