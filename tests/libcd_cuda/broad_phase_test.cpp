@@ -271,6 +271,23 @@ Soup crowded_soup(unsigned seed, int n) {
   return soup;
 }
 
+/// The GPU broad phase `method` in chunks of a few percent of the kept tests
+/// (more than 10 of them) gives the CPU's CCD candidates vf, ee and counts `cpu`.
+void expect_chunked_ccd_equals_cpu(const Soup& soup, BroadPhaseMethod method, const BroadPhaseStats& cpu,
+                                   const std::vector<VertexFaceCandidate>& vf,
+                                   const std::vector<EdgeEdgeCandidate>& ee) {
+  auto chunked = CudaBroadPhase::create(method);
+  chunked->build(soup.scene, {});
+  chunked->set_chunk_rooms(cpu.triangle_pairs / 25 + 8, vf.size() + ee.size() + 16);
+  std::vector<VertexFaceCandidate> vf_chunked;
+  std::vector<EdgeEdgeCandidate> ee_chunked;
+  chunked->detect_ccd(soup.x_t0, soup.x_t1, vf_chunked, ee_chunked);
+  EXPECT_GT(chunked->last_chunks(), 10u);
+  EXPECT_EQ(vf_chunked, vf);
+  EXPECT_EQ(ee_chunked, ee);
+  expect_same_counts(cpu, chunked->stats());
+}
+
 TEST_F(CudaBroadPhaseTest, MatchesCpuWhereCellsHoldManyTiles) {
   const Soup soup = crowded_soup(31, 6000);
   VirtualSubdivisionGrid probe(true);
@@ -282,18 +299,8 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuWhereCellsHoldManyTiles) {
   ASSERT_GT(crowd.registrations, 3 * kPairTileSide * crowd.cells_used) << "cells must span several tiles";
   expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, {});
 
-  // In chunks of a few percent of the kept tests: row ranges start and end
-  // inside tiles, the same candidates and counts.
-  auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
-  chunked->build(soup.scene, {});
-  chunked->set_chunk_rooms(crowd.triangle_pairs / 25 + 8, vf.size() + ee.size() + 16);
-  std::vector<VertexFaceCandidate> vf_chunked;
-  std::vector<EdgeEdgeCandidate> ee_chunked;
-  chunked->detect_ccd(soup.x_t0, soup.x_t1, vf_chunked, ee_chunked);
-  EXPECT_GT(chunked->last_chunks(), 10u);
-  EXPECT_EQ(vf_chunked, vf);
-  EXPECT_EQ(ee_chunked, ee);
-  expect_same_counts(crowd, chunked->stats());
+  // Row ranges start and end inside tiles.
+  expect_chunked_ccd_equals_cpu(soup, BroadPhaseMethod::kVirtualSubdivisionGrid, crowd, vf, ee);
 }
 
 TEST_F(CudaBroadPhaseTest, AdaptiveGridMatchesCpuWhereCellsAreCrowded) {
@@ -308,18 +315,8 @@ TEST_F(CudaBroadPhaseTest, AdaptiveGridMatchesCpuWhereCellsAreCrowded) {
   ASSERT_GE(crowd.deepest_level, 2);
   expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kAdaptiveGrid, {});
 
-  // In chunks of a few percent of the kept tests: every pass runs every tile
-  // and keeps its own root range; the same candidates and counts.
-  auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kAdaptiveGrid);
-  chunked->build(soup.scene, {});
-  chunked->set_chunk_rooms(crowd.triangle_pairs / 25 + 8, vf.size() + ee.size() + 16);
-  std::vector<VertexFaceCandidate> vf_chunked;
-  std::vector<EdgeEdgeCandidate> ee_chunked;
-  chunked->detect_ccd(soup.x_t0, soup.x_t1, vf_chunked, ee_chunked);
-  EXPECT_GT(chunked->last_chunks(), 10u);
-  EXPECT_EQ(vf_chunked, vf);
-  EXPECT_EQ(ee_chunked, ee);
-  expect_same_counts(crowd, chunked->stats());
+  // Each pass skips the tiles that hold none of its root range's tests.
+  expect_chunked_ccd_equals_cpu(soup, BroadPhaseMethod::kAdaptiveGrid, crowd, vf, ee);
 }
 
 /// The GPU's hierarchy of crowded cells against build_adaptive_cells: the same
