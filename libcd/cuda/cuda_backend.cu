@@ -266,9 +266,14 @@ class CudaBackend final : public Backend {
     stats_.narrow.predicate_exact = found.counts.predicate_exact;
     stats_.narrow.triangle_tests = found.tests;
     const auto events_start = std::chrono::steady_clock::now();
-    events.insert(events.end(), found.events.begin(), found.events.end());
+    const std::size_t intersecting = found.events.size();
+    if (events.empty()) {
+      events.swap(static_found_.events);  // the next detection clears what it gets back
+    } else {
+      append_events(events, found.events.data(), intersecting);
+    }
     stats_.narrow.seconds_static_events = seconds_since(events_start);
-    stats_.narrow.triangles_intersecting += found.events.size();
+    stats_.narrow.triangles_intersecting += intersecting;
     stats_.narrow.seconds_static = found.narrow_seconds + stats_.narrow.seconds_static_events;
   }
 

@@ -14,6 +14,7 @@
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
+#include "libcd/pipeline/event_builder.hpp"
 #include "libcd/pipeline/event_fields.hpp"
 
 namespace snag {
@@ -332,7 +333,7 @@ void CudaNarrowPhase::append_staged_events(std::size_t count, std::vector<Event>
   gathered_.release();
   if (count == 0) return;
   const Event* staged = reinterpret_cast<const Event*>(host_gathered_.data());  // cudaMallocHost: aligned
-  events.insert(events.end(), staged, staged + count);
+  append_events(events, staged, count);
 }
 
 template <class Query>

@@ -1,6 +1,8 @@
 #include "libcd/pipeline/event_builder.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -13,6 +15,10 @@
 namespace snag {
 
 namespace {
+
+// Events per task of the passes over a step's events: each is a few
+// nanoseconds of work.
+constexpr std::size_t kEventsPerTask = 8192;
 
 ExactAnswer decide_exactly(const Certifier& certifier, const Scene& scene, const std::vector<Vec3>& x_t0,
                            const std::vector<Vec3>& x_t1, const VertexFaceCandidate& c, double thickness) {
@@ -145,8 +151,26 @@ Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const T
 }
 
 void sort_events_from(std::vector<Event>& events, std::size_t first) {
-  const auto begin = events.begin() + static_cast<std::ptrdiff_t>(first);
-  if (!std::is_sorted(begin, events.end(), event_order)) tbb::parallel_sort(begin, events.end(), event_order);
+  if (events.size() <= first + 1) return;
+  // Each block checks its events against the one before them.
+  const bool sorted = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(first + 1, events.size(), kEventsPerTask), true,
+      [&](const tbb::blocked_range<std::size_t>& range, bool so_far) {
+        for (std::size_t i = range.begin(); so_far && i < range.end(); ++i) so_far = !event_order(events[i], events[i - 1]);
+        return so_far;
+      },
+      [](bool a, bool b) { return a && b; });
+  if (!sorted) tbb::parallel_sort(events.begin() + static_cast<std::ptrdiff_t>(first), events.end(), event_order);
+}
+
+void append_events(std::vector<Event>& to, const Event* from, std::size_t count) {
+  const std::size_t first = to.size();
+  to.resize(first + count);
+  Event* out = to.data() + first;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kEventsPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      std::copy(from + range.begin(), from + range.end(), out + range.begin());
+                    });
 }
 
 void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x,
@@ -161,12 +185,27 @@ std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>&
                                     std::size_t vf_tests, std::size_t ee_tests, const CcdSettings& settings,
                                     const Certifier* certifier, NarrowPhaseStats& stats, std::vector<Event>& events,
                                     std::size_t first) {
-  std::vector<std::size_t> uncertain;
-  std::size_t vf_hits = 0;
-  for (std::size_t k = first; k < events.size(); ++k) {
-    if (events[k].certainty == Certainty::kUncertain) uncertain.push_back(k);
-    vf_hits += events[k].type == ContactType::kVertexFace;
-  }
+  // The vertex-face hits and the uncertain events, in order, on all threads.
+  struct Found {
+    std::size_t vf_hits = 0;
+    std::vector<std::size_t> uncertain;
+  };
+  Found found = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(first, events.size(), kEventsPerTask), Found{},
+      [&](const tbb::blocked_range<std::size_t>& range, Found sum) {
+        for (std::size_t k = range.begin(); k < range.end(); ++k) {
+          if (events[k].certainty == Certainty::kUncertain) sum.uncertain.push_back(k);
+          sum.vf_hits += events[k].type == ContactType::kVertexFace;
+        }
+        return sum;
+      },
+      [](Found left, const Found& right) {  // left holds the earlier events
+        left.vf_hits += right.vf_hits;
+        left.uncertain.insert(left.uncertain.end(), right.uncertain.begin(), right.uncertain.end());
+        return left;
+      });
+  const std::size_t vf_hits = found.vf_hits;
+  const std::vector<std::size_t>& uncertain = found.uncertain;
   std::size_t hits[2] = {vf_hits, events.size() - first - vf_hits};  // vertex-face, edge-edge
   std::vector<CcdResult> results(uncertain.size());
   tbb::parallel_for(std::size_t{0}, uncertain.size(),

@@ -1,8 +1,12 @@
 #include "libcd/pipeline/scan.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <chrono>
 #include <future>
+#include <tuple>
 
 #include "libcd/pipeline/event_builder.hpp"
 #include "libcd/pipeline/sink_thread.hpp"
@@ -12,6 +16,9 @@ namespace snag {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Events per task of the passes over a frame's events.
+constexpr std::size_t kEventsPerTask = 8192;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -94,21 +101,44 @@ constexpr std::size_t kEventBuffers = kFramesInSink + 1;
 // Sets each event's frame, counts the collisions' types (the first
 // `collisions` events), and puts the list in event_order if it is not: each
 // back end returns its list in order and collisions come before
-// intersections, so one pass over the events checks the order and no sort
-// is needed.
+// intersections, so one pass over the events (on all threads) checks the
+// order and no sort is needed.
 void finish_events(std::vector<Event>& events, std::size_t collisions, FrameSummary& summary) {
-  bool ordered = true;
-  for (std::size_t i = 0; i < events.size(); ++i) {
-    Event& event = events[i];
-    event.frame = summary.frame;
-    if (i < collisions) {
-      summary.vertex_face += event.type == ContactType::kVertexFace;
-      summary.edge_edge += event.type == ContactType::kEdgeEdge;
-      summary.uncertain += event.certainty == Certainty::kUncertain;
-    }
-    if (ordered && i > 0 && event_order(event, events[i - 1])) ordered = false;
-  }
-  if (!ordered) std::sort(events.begin(), events.end(), event_order);  // on this thread: the scan's own
+  struct Pass {
+    std::size_t vertex_face = 0, edge_edge = 0, uncertain = 0;
+    bool ordered = true;
+  };
+  // Every event gets the same frame: the order is that of the rest of the key.
+  auto before = [](const Event& x, const Event& y) {
+    return std::make_tuple(x.kind, x.type, x.a, x.b) < std::make_tuple(y.kind, y.type, y.a, y.b);
+  };
+  const std::size_t frame = summary.frame;
+  const Pass pass = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, events.size(), kEventsPerTask), Pass{},
+      [&](const tbb::blocked_range<std::size_t>& range, Pass sum) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+          Event& event = events[i];
+          event.frame = frame;
+          if (i < collisions) {
+            sum.vertex_face += event.type == ContactType::kVertexFace;
+            sum.edge_edge += event.type == ContactType::kEdgeEdge;
+            sum.uncertain += event.certainty == Certainty::kUncertain;
+          }
+          if (sum.ordered && i > 0 && before(event, events[i - 1])) sum.ordered = false;
+        }
+        return sum;
+      },
+      [](Pass left, const Pass& right) {
+        left.vertex_face += right.vertex_face;
+        left.edge_edge += right.edge_edge;
+        left.uncertain += right.uncertain;
+        left.ordered = left.ordered && right.ordered;
+        return left;
+      });
+  summary.vertex_face += pass.vertex_face;
+  summary.edge_edge += pass.edge_edge;
+  summary.uncertain += pass.uncertain;
+  if (!pass.ordered) std::sort(events.begin(), events.end(), event_order);  // on this thread: the scan's own
 }
 
 }  // namespace
@@ -171,7 +201,7 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
         totals.stats.add(backend.stats());
         done.summary.collisions = frame_events.size();
       }
-      frame_events.insert(frame_events.end(), static_events.begin(), static_events.end());
+      append_events(frame_events, static_events.data(), static_events.size());
       finish_events(frame_events, done.summary.collisions, done.summary);
       done.events = &frame_events;
       done.x = &current;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "libcd/pipeline/backend.hpp"
@@ -165,6 +166,82 @@ TEST(SettleCollisionEvents, LeavesDecidedEventsAsTheyAre) {
   EXPECT_TRUE(events.empty());
   EXPECT_EQ(stats.vf_no, 10u);
   EXPECT_EQ(stats.ee_no, 5u);
+}
+
+// The passes over a step's events run on all threads, in tasks of thousands
+// of events: in a long list each event is settled in place as it is alone,
+// and the list keeps its order.
+TEST(SettleCollisionEvents, LongListsAreSettledInPlaceAsTheirEventsAlone) {
+  const Step step;
+  const AllCandidates candidates(step.scene);
+  std::vector<Event> screened;
+  screen_events(step, candidates.vf, 0, candidates.vf.size(), CcdSettings{}, screened);
+  screen_events(step, candidates.ee, 0, candidates.ee.size(), CcdSettings{}, screened);
+  const auto decided = std::find_if(screened.begin(), screened.end(),
+                                    [](const Event& e) { return e.certainty == Certainty::kProven; });
+  ASSERT_NE(decided, screened.end());
+  constexpr std::size_t kBetween = 3001;  // decided events before each screened one
+  std::vector<Event> events, want;
+  std::size_t undecided = 0, vf = 0, ee = 0;
+  for (const Event& e : screened) {
+    events.insert(events.end(), kBetween, *decided);
+    want.insert(want.end(), kBetween, *decided);
+    events.push_back(e);
+    std::vector<Event> alone{e};
+    NarrowPhaseStats alone_stats;
+    undecided += settle_collision_events(step.scene, step.x_t0, step.x_t1, 1, 1, CcdSettings{}, nullptr, alone_stats,
+                                         alone, 0);
+    want.insert(want.end(), alone.begin(), alone.end());
+  }
+  for (const Event& e : events) (e.type == ContactType::kVertexFace ? vf : ee) += 1;
+  ASSERT_GT(undecided, 2u);
+  ASSERT_GT(events.size(), 20000u);
+  NarrowPhaseStats stats;
+  EXPECT_EQ(settle_collision_events(step.scene, step.x_t0, step.x_t1, vf, ee, CcdSettings{}, nullptr, stats, events, 0),
+            undecided);
+  test::expect_same_events(want, events, "long list");
+}
+
+// Events with distinct keys, in event order.
+std::vector<Event> ordered_events(std::size_t count) {
+  std::vector<Event> events(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    events[i].a = static_cast<Index>(i / 7);
+    events[i].b = static_cast<Index>(i % 7);
+    events[i].toi_lo = static_cast<double>(i);
+  }
+  return events;
+}
+
+TEST(SortEventsFrom, FindsOneStepOutOfOrderAnywhereInALongList) {
+  const std::vector<Event> sorted = ordered_events(50000);
+  for (std::size_t at : {std::size_t{1}, std::size_t{8192}, std::size_t{8193}, std::size_t{31111}, std::size_t{49999}}) {
+    std::vector<Event> events = sorted;
+    std::swap(events[at - 1], events[at]);
+    sort_events_from(events, 0);
+    test::expect_same_events(sorted, events, "swapped at " + std::to_string(at));
+  }
+  std::vector<Event> events = sorted;
+  sort_events_from(events, 0);
+  test::expect_same_events(sorted, events, "already sorted");
+  // Only events [first, end) are ordered.
+  events = sorted;
+  std::swap(events[0], events[1]);
+  std::swap(events[40000], events[40001]);
+  sort_events_from(events, 2);
+  EXPECT_EQ(events[0].toi_lo, 1.0);
+  EXPECT_EQ(events[1].toi_lo, 0.0);
+  EXPECT_EQ(events[40000].toi_lo, 40000.0);
+}
+
+TEST(AppendEvents, CopiesALongListAfterWhatIsThere) {
+  const std::vector<Event> more = ordered_events(70000);
+  std::vector<Event> events = ordered_events(3), want = events;
+  want.insert(want.end(), more.begin(), more.end());
+  append_events(events, more.data(), more.size());
+  test::expect_same_events(want, events, "appended");
+  append_events(events, nullptr, 0);
+  EXPECT_EQ(events.size(), want.size());
 }
 
 }  // namespace
