@@ -2,7 +2,18 @@
 
 #include <algorithm>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 namespace snag::report {
+
+namespace {
+
+// Events per task of the rules' pass: a task costs more than a few events.
+constexpr std::size_t kEventsPerTask = 2048;
+
+}  // namespace
 
 std::size_t events_to_list(const ReportSettings& settings, std::size_t listed, std::size_t kept) {
   if (settings.events != "all") return 0;
@@ -13,6 +24,78 @@ std::size_t events_to_list(const ReportSettings& settings, std::size_t listed, s
 FrameDigester::FrameDigester(const Scene& scene, const RuleSet& rules)
     : scene_(scene), rules_(rules), regions_(scene) {}
 
+void FrameDigester::Tally::add(const Tally& other) {
+  collisions += other.collisions;
+  vf += other.vf;
+  ee += other.ee;
+  uncertain += other.uncertain;
+  intersections += other.intersections;
+  allowed += other.allowed;
+  not_checked += other.not_checked;
+  neighbourhood += other.neighbourhood;
+  if (allow_counts.size() < other.allow_counts.size()) allow_counts.resize(other.allow_counts.size(), 0);
+  for (std::size_t rule = 0; rule < other.allow_counts.size(); ++rule) allow_counts[rule] += other.allow_counts[rule];
+  for (const auto& [key, counts] : other.pairs) {
+    auto [it, inserted] = pairs.try_emplace(key, counts);
+    if (!inserted) {
+      it->second.checked += counts.checked;
+      it->second.allowed += counts.allowed;
+    }
+  }
+}
+
+// The rules on events [begin, end): their dispositions, whether each is in a
+// region and the rule that allowed it, at the event's own index, and the
+// counts into `sum`.
+void FrameDigester::tally(const std::vector<Event>& events, std::size_t begin, std::size_t end,
+                          std::vector<std::size_t>& allowed_by, Tally& sum) {
+  // The events of a pair come in long runs: the last pair's counts are kept
+  // at hand instead of a map look-up per event.
+  PairKey last_key{-1, 0, 0};
+  PairCounts* last_pair = nullptr;
+  for (std::size_t i = begin; i < end; ++i) {
+    const Event& e = events[i];
+    const Disposition d = rules_.classify(e);
+    dispositions_[i] = d.kind;
+    in_region_[i] = 0;
+    allowed_by[i] = kNone;
+    if (d.kind == Disposition::kNotChecked) {
+      ++sum.not_checked;
+      continue;
+    }
+    if (d.kind == Disposition::kNeighbourhood) {
+      ++sum.neighbourhood;
+      continue;
+    }
+    const auto [a, b] = event_objects(scene_, e);
+    const PairKey key{static_cast<int>(e.kind), a, b};
+    if (key != last_key) {
+      last_key = key;
+      auto [it, inserted] = sum.pairs.try_emplace(key);
+      if (inserted) it->second = PairCounts{e.kind, a, b, 0, 0};
+      last_pair = &it->second;
+    }
+    if (d.kind == Disposition::kAllowed) {
+      allowed_by[i] = d.rule;
+      ++sum.allowed;
+      ++last_pair->allowed;
+      if (sum.allow_counts.size() <= d.rule) sum.allow_counts.resize(d.rule + 1, 0);
+      ++sum.allow_counts[d.rule];
+      continue;
+    }
+    in_region_[i] = 1;
+    ++last_pair->checked;
+    if (e.kind == EventKind::kCollision) {
+      ++sum.collisions;
+      sum.vf += e.type == ContactType::kVertexFace;
+      sum.ee += e.type == ContactType::kEdgeEdge;
+      sum.uncertain += e.certainty == Certainty::kUncertain;
+    } else {
+      ++sum.intersections;
+    }
+  }
+}
+
 void FrameDigester::digest(ScannedFrame& frame, FrameDigest& digest) {
   std::vector<Event>& events = *frame.events;
   FrameRecord& record = digest.record;
@@ -20,65 +103,54 @@ void FrameDigester::digest(ScannedFrame& frame, FrameDigest& digest) {
   record.position = frame.position;
   record.index = frame.summary.frame;
   record.time = frame.time;
-  digest.not_checked = 0;
-  digest.neighbourhood = 0;
+
+  // The rules on all threads (classify may run on several at once), each
+  // event's results at its own index; counts summed over the blocks.
+  const std::size_t count = events.size();
+  dispositions_.resize(count);
+  in_region_.resize(count);
+  digest.allowed_by.resize(count);
+  const Tally total = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, count, kEventsPerTask), Tally{},
+      [&](const tbb::blocked_range<std::size_t>& range, Tally sum) {
+        tally(events, range.begin(), range.end(), digest.allowed_by, sum);
+        return sum;
+      },
+      [](Tally left, const Tally& right) {
+        left.add(right);
+        return left;
+      });
+  record.collisions = total.collisions;
+  record.vf = total.vf;
+  record.ee = total.ee;
+  record.uncertain = total.uncertain;
+  record.intersections = total.intersections;
+  record.allowed = total.allowed;
+  digest.not_checked = total.not_checked;
+  digest.neighbourhood = total.neighbourhood;
   digest.allow_counts.assign(rules_.rules().allow.size(), 0);
-  in_region_.clear();
-  digest.allowed_by.clear();
-  in_region_.reserve(events.size());
-  digest.allowed_by.reserve(events.size());
-  pairs_.clear();
-  // The events of a pair come in long runs: the last pair's counts are kept
-  // at hand instead of a map look-up per event.
-  PairKey last_key{-1, 0, 0};
-  PairCounts* last_pair = nullptr;
-  // The kept events are moved down in place: nothing is copied while no
-  // rule drops any.
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < events.size(); ++i) {
-    const Event& e = events[i];
-    const Disposition d = rules_.classify(e);
-    if (d.kind == Disposition::kNotChecked) {
-      ++digest.not_checked;
-      continue;
-    }
-    if (d.kind == Disposition::kNeighbourhood) {
-      ++digest.neighbourhood;
-      continue;
-    }
-    const auto [a, b] = event_objects(scene_, e);
-    const PairKey key{static_cast<int>(e.kind), a, b};
-    if (key != last_key) {
-      last_key = key;
-      auto [it, inserted] = pairs_.try_emplace(key);
-      if (inserted) it->second = PairCounts{e.kind, a, b, 0, 0};
-      last_pair = &it->second;
-    }
-    if (kept != i) events[kept] = e;
-    ++kept;
-    if (d.kind == Disposition::kAllowed) {
-      in_region_.push_back(0);
-      digest.allowed_by.push_back(d.rule);
-      ++record.allowed;
-      ++last_pair->allowed;
-      ++digest.allow_counts[d.rule];
-      continue;
-    }
-    in_region_.push_back(1);
-    digest.allowed_by.push_back(kNone);
-    ++last_pair->checked;
-    if (e.kind == EventKind::kCollision) {
-      ++record.collisions;
-      record.vf += e.type == ContactType::kVertexFace;
-      record.ee += e.type == ContactType::kEdgeEdge;
-      record.uncertain += e.certainty == Certainty::kUncertain;
-    } else {
-      ++record.intersections;
-    }
-  }
-  events.resize(kept);
+  for (std::size_t rule = 0; rule < total.allow_counts.size(); ++rule) digest.allow_counts[rule] = total.allow_counts[rule];
   digest.pairs.clear();
-  for (const auto& [key, counts] : pairs_) digest.pairs.push_back(counts);
+  for (const auto& [key, counts] : total.pairs) digest.pairs.push_back(counts);
+
+  // The events the rules dropped leave the list, the kept ones moved down in
+  // place in order (nothing moves while no rule drops any).
+  std::size_t kept = count;
+  if (total.not_checked + total.neighbourhood > 0) {
+    kept = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (dispositions_[i] == Disposition::kNotChecked || dispositions_[i] == Disposition::kNeighbourhood) continue;
+      if (kept != i) {
+        events[kept] = events[i];
+        in_region_[kept] = in_region_[i];
+        digest.allowed_by[kept] = digest.allowed_by[i];
+      }
+      ++kept;
+    }
+    events.resize(kept);
+    in_region_.resize(kept);
+    digest.allowed_by.resize(kept);
+  }
 
   digest.regions.clear();
   regions_.build(events, in_region_, *frame.x, record.index, digest.regions, digest.region_of);

@@ -66,10 +66,22 @@ class FrameDigester {
  private:
   using PairKey = std::tuple<int, std::size_t, std::size_t>;  // kind, object a <= b
 
+  /// Counts of a block of a frame's events, summed over the blocks.
+  struct Tally {
+    std::size_t collisions = 0, vf = 0, ee = 0, uncertain = 0, intersections = 0, allowed = 0;
+    std::size_t not_checked = 0, neighbourhood = 0;
+    std::vector<std::size_t> allow_counts;  ///< per allow rule, up to the last that matched
+    std::map<PairKey, PairCounts> pairs;
+    void add(const Tally& other);
+  };
+  void tally(const std::vector<Event>& events, std::size_t begin, std::size_t end,
+             std::vector<std::size_t>& allowed_by, Tally& sum);
+
   const Scene& scene_;
   const RuleSet& rules_;
   RegionBuilder regions_;
-  std::map<PairKey, PairCounts> pairs_;  // scratch, cleared per frame
+  // Per event of the frame, scratch.
+  std::vector<Disposition::Kind> dispositions_;
   std::vector<char> in_region_;
 };
 
