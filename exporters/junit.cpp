@@ -228,6 +228,7 @@ void write_junit(std::ostream& out, const std::vector<ReportDigest>& reports, Ju
     write_property(out, "settings.backend", settings.backend);
     write_property(out, "settings.precision", settings.precision);
     write_property(out, "settings.thickness", number(settings.thickness));
+    write_property(out, "settings.grid", settings.grid);
     write_property(out, "settings.frames", settings.frames);
     write_property(out, "settings.weld", settings.weld);
     write_property(out, "settings.events", settings.events);

@@ -46,6 +46,7 @@ struct ReportSettings {
   std::string backend;               ///< "cpu" or "cuda"
   std::string precision = "certified";
   double thickness = 0, lambda = 1.2;
+  std::string grid = "uniform";      ///< "uniform" or "adaptive" (crowded cells subdivided): snag-scan --grid
   unsigned threads = 0;
   std::string frames;                ///< the --frames selection, "" for all
   std::string weld = "auto";

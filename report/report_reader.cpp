@@ -408,6 +408,11 @@ struct ReportReader::State {
     s.precision = text(o, "precision");
     s.thickness = number(o, "thickness");
     s.lambda = number(o, "lambda");
+    // Reports written before the grid was recorded ran the uniform grid.
+    s.grid = o.at_key("grid").error() == simdjson::SUCCESS ? std::string(text(o, "grid")) : "uniform";
+    if (s.grid != "uniform" && s.grid != "adaptive") {
+      fail("header record: unknown grid \"" + s.grid + "\" (uniform or adaptive)");
+    }
     const std::size_t threads = count(o, "threads");
     if (threads > std::numeric_limits<unsigned>::max()) fail_key("threads", "is out of range");
     s.threads = static_cast<unsigned>(threads);

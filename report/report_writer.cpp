@@ -90,6 +90,7 @@ void ReportWriter::write_header(const Header& h) {
   j.key("precision").string(s.precision);
   j.key("thickness").number(s.thickness);
   j.key("lambda").number(s.lambda);
+  j.key("grid").string(s.grid);
   j.key("threads").number(s.threads);
   j.key("frames").string(s.frames);
   j.key("weld").string(s.weld);

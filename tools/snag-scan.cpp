@@ -113,6 +113,7 @@ snag::report::Header make_header(const snag::FrameSource& source, const snag::re
   s.precision = options.precision;
   s.thickness = setup.thickness;
   s.lambda = options.lambda;
+  s.grid = options.grid;
   s.threads = options.threads;
   s.frames = setup.frames;
   s.weld = setup.weld;

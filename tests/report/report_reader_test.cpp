@@ -171,6 +171,7 @@ TEST_F(ReportReaderTest, ReadsTheHeader) {
   EXPECT_EQ(s.precision, "certified");
   EXPECT_EQ(s.thickness, 0.001);
   EXPECT_EQ(s.lambda, 1.2);
+  EXPECT_EQ(s.grid, "uniform") << "a report without the grid ran the uniform one";
   EXPECT_EQ(s.threads, 4u);
   EXPECT_EQ(s.frames, "12:13");
   EXPECT_EQ(s.weld, "auto");
@@ -483,6 +484,13 @@ TEST_F(ReportReaderTest, RejectsAKeyOfTheWrongType) {
   expect_error(edited(3, R"("kind":"intersection")", R"("kind":"graze")"), 3, "unknown kind");
   expect_error(edited(4, R"("type":"vf")", R"("type":"tt")"), 4, "unknown collision type");
   expect_error(edited(1, R"("mode":"all")", R"("mode":"both")"), 1, "unknown mode");
+  expect_error(edited(1, R"("lambda":1.2,)", R"("lambda":1.2,"grid":"octree",)"), 1, "unknown grid");
+}
+
+TEST_F(ReportReaderTest, ReadsTheGrid) {
+  const std::string path = dir_.write("adaptive.jsonl", edited(1, R"("lambda":1.2,)", R"("lambda":1.2,"grid":"adaptive",)"));
+  ReportReader reader(path);
+  EXPECT_EQ(reader.header().settings.grid, "adaptive");
 }
 
 TEST_F(ReportReaderTest, RejectsAMissingKey) {

@@ -286,6 +286,8 @@ TEST(SnagScan, AdaptiveGridGivesTheUniformGridsEventsAndSaysWhatItSplit) {
   EXPECT_TRUE(adaptive["events"] == uniform["events"]);
   EXPECT_TRUE(adaptive["regions"] == uniform["regions"]);
   EXPECT_TRUE(adaptive["summary"] == uniform["summary"]);
+  EXPECT_EQ(adaptive["settings"]["grid"], "adaptive");
+  EXPECT_EQ(uniform["settings"]["grid"], "uniform");
   for (const char* stage : {"ccd_broad_phase", "static_broad_phase"}) {
     const json& split = adaptive["trailer"]["stages"][stage];
     const json& plain = uniform["trailer"]["stages"][stage];
