@@ -4,7 +4,6 @@
 // Primitives: CUB DeviceRadixSort (stable), DeviceRunLengthEncode, DeviceScan.
 #include "libcd/cuda/adaptive_cells.cuh"
 
-#include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_run_length_encode.cuh>
 
 #include <algorithm>
@@ -23,6 +22,7 @@ using detail::blocks_for;
 using detail::ensure_scratch;
 using detail::exclusive_sum;
 using detail::radix_bits;
+using detail::radix_sort_pairs;
 using detail::thread_item;
 
 struct AddRegistrationCounts {
@@ -294,21 +294,13 @@ void build_adaptive_cells_on_device(const Leaf* leaves, std::size_t leaf_count, 
     // The level's registrations by (key, leaf): one stable sort by key.
     grow(out.keys_sorted, total);
     grow(out.values_sorted, total);
-    std::size_t bytes = 0;
-    const int end_bit = radix_bits(max_key);
-    SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, out.keys.data(), out.keys_sorted.data(),
-                                                    out.values.data(), out.values_sorted.data(), total, 0, end_bit,
-                                                    stream));
-    ensure_scratch(out.temp, bytes, check);
-    bytes = out.temp.size();
-    SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(out.temp.data(), bytes, out.keys.data(), out.keys_sorted.data(),
-                                                    out.values.data(), out.values_sorted.data(), total, 0, end_bit,
-                                                    stream));
+    radix_sort_pairs(out.keys.data(), out.keys_sorted.data(), out.values.data(), out.values_sorted.data(), total,
+                     radix_bits(max_key), out.temp, stream, check);
 
     // Its cells: runs of one key, their first registrations and coordinates.
     grow(out.run_keys, total);
     grow(out.run_length, total + 1);
-    bytes = 0;
+    std::size_t bytes = 0;
     SNAG_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(nullptr, bytes, out.keys_sorted.data(), out.run_keys.data(),
                                                        out.run_length.data(), out.counters.data(), total, stream));
     ensure_scratch(out.temp, bytes, check);
@@ -395,16 +387,8 @@ void build_adaptive_cells_on_device(const Leaf* leaves, std::size_t leaf_count, 
   member_keys_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(
       out.cells.data(), out.cell_count, out.member_leaves.data(), n, leaves, out.keys.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  const int end_bit = 33 + radix_bits(out.cell_count - 1);
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, out.keys.data(), out.keys_sorted.data(),
-                                                  out.member_leaves.data(), out.values_sorted.data(), n, 0, end_bit,
-                                                  stream));
-  ensure_scratch(out.temp, bytes, check);
-  bytes = out.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(out.temp.data(), bytes, out.keys.data(), out.keys_sorted.data(),
-                                                  out.member_leaves.data(), out.values_sorted.data(), n, 0, end_bit,
-                                                  stream));
+  radix_sort_pairs(out.keys.data(), out.keys_sorted.data(), out.member_leaves.data(), out.values_sorted.data(), n,
+                   33 + radix_bits(out.cell_count - 1), out.temp, stream, check);
   member_records_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(out.values_sorted.data(), n, leaves,
                                                                          out.blocks.data(), out.members.data());
   SNAG_CUDA_CHECK_LAUNCH();

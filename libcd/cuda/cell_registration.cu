@@ -6,7 +6,6 @@
 // Primitives: CUB DeviceScan, DeviceRadixSort (stable), DeviceSelect, DeviceRunLengthEncode.
 #include "libcd/cuda/cell_registration.cuh"
 
-#include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_run_length_encode.cuh>
 #include <cub/device/device_scan.cuh>
 #include <cub/device/device_select.cuh>
@@ -23,6 +22,7 @@ using detail::blocks_for;
 using detail::ensure_scratch;
 using detail::exclusive_sum;
 using detail::radix_bits;
+using detail::radix_sort_pairs;
 using detail::thread_item;
 
 __global__ void block_count_kernel(const Leaf* leaves, std::size_t n, std::uint64_t* count) {
@@ -109,16 +109,8 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   const std::uint64_t max_id = static_cast<std::uint64_t>(grid.dims[0]) * static_cast<std::uint64_t>(grid.dims[1]) *
                                    static_cast<std::uint64_t>(grid.dims[2]) -
                                1;
-  const int end_bit = radix_bits(max_id);
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, g.keys.data(), g.keys_sorted.data(),
-                                                  g.values.data(), g.values_sorted.data(), total, 0, end_bit,
-                                                  stream));
-  ensure_scratch(g.temp, bytes, check);
-  bytes = g.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(g.temp.data(), bytes, g.keys.data(), g.keys_sorted.data(),
-                                                  g.values.data(), g.values_sorted.data(), total, 0, end_bit,
-                                                  stream));
+  radix_sort_pairs(g.keys.data(), g.keys_sorted.data(), g.values.data(), g.values_sorted.data(), total,
+                   radix_bits(max_id), g.temp, stream, check);
 
   // One scan removing duplicate registrations (home priority).
   check_growth(check, g.keep.growth_bytes(total));
@@ -133,7 +125,7 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   g.kept_keys.resize(total);
   g.leaves.resize(total);
   g.selected.resize(2);
-  bytes = 0;
+  std::size_t bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(nullptr, bytes, g.keys_sorted.data(), g.keep.data(), g.kept_keys.data(),
                                              g.selected.data(), total, stream));
   ensure_scratch(g.temp, bytes, check);

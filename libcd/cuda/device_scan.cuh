@@ -1,7 +1,8 @@
-// Scratch and prefix sums shared by the GPU stages: CUB's two-call pattern
-// (ask the scratch size, then run) written once.
+// Scratch, prefix sums and radix sorts shared by the GPU stages: CUB's
+// two-call pattern (ask the scratch size, then run) written once.
 #pragma once
 
+#include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
 
 #include <algorithm>
@@ -29,6 +30,45 @@ void exclusive_sum(const T* in, T* out, std::size_t n, DeviceBuffer<unsigned cha
   ensure_scratch(temp, bytes, check);
   bytes = temp.size();
   SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temp.data(), bytes, in, out, n, stream));
+}
+
+/// Sorts the pairs (keys_in[k], values_in[k]), k < n, by bits [0, end_bit)
+/// of the keys into keys_out and values_out, stably, in stream order.
+/// Throws CudaError.
+template <class Key, class Value>
+void radix_sort_pairs(const Key* keys_in, Key* keys_out, const Value* values_in, Value* values_out, std::size_t n,
+                      int end_bit, DeviceBuffer<unsigned char>& temp, cudaStream_t stream,
+                      const GrowthCheck& check = {}) {
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(
+      cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys_in, keys_out, values_in, values_out, n, 0, end_bit, stream));
+  ensure_scratch(temp, bytes, check);
+  bytes = temp.size();
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(temp.data(), bytes, keys_in, keys_out, values_in, values_out, n, 0,
+                                                  end_bit, stream));
+}
+
+/// The same on double buffers: the sorted pairs are in their Current() halves.
+template <class Key, class Value>
+void radix_sort_pairs(cub::DoubleBuffer<Key>& keys, cub::DoubleBuffer<Value>& values, std::size_t n, int end_bit,
+                      DeviceBuffer<unsigned char>& temp, cudaStream_t stream, const GrowthCheck& check = {}) {
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, values, n, 0, end_bit, stream));
+  ensure_scratch(temp, bytes, check);
+  bytes = temp.size();
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(temp.data(), bytes, keys, values, n, 0, end_bit, stream));
+}
+
+/// Sorts the n keys of `keys` by bits [0, end_bit); they are then in its
+/// Current() half. Throws CudaError.
+template <class Key>
+void radix_sort_keys(cub::DoubleBuffer<Key>& keys, std::size_t n, int end_bit, DeviceBuffer<unsigned char>& temp,
+                     cudaStream_t stream, const GrowthCheck& check = {}) {
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, keys, n, 0, end_bit, stream));
+  ensure_scratch(temp, bytes, check);
+  bytes = temp.size();
+  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(temp.data(), bytes, keys, n, 0, end_bit, stream));
 }
 
 /// The bits a radix sort needs for keys up to max_value (at least 1).

@@ -13,7 +13,6 @@
 // chunk's pass runs exactly its own tests; all chunks together run each test once.
 #include "libcd/cuda/pair_enumeration.cuh"
 
-#include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_reduce.cuh>
 #include <cub/device/device_scan.cuh>
 #include <cub/device/device_select.cuh>
@@ -37,6 +36,8 @@ using detail::blocks_for;
 using detail::ensure_scratch;
 using detail::exclusive_sum;
 using detail::radix_bits;
+using detail::radix_sort_keys;
+using detail::radix_sort_pairs;
 using detail::thread_item;
 
 /// Counter slots of the test kernel.
@@ -371,12 +372,8 @@ std::size_t sort_unique(std::uint64_t* keys, std::uint64_t* spare, std::size_t n
   unique = keys;
   if (n == 0) return 0;
   cub::DoubleBuffer<std::uint64_t> halves(keys, spare);
+  radix_sort_keys(halves, n, end_bit, p.temp, stream);
   std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, halves, n, 0, end_bit, stream));
-  ensure_scratch(p.temp, bytes);
-  bytes = p.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(p.temp.data(), bytes, halves, n, 0, end_bit, stream));
-  bytes = 0;
   SNAG_CUDA_CHECK(cub::DeviceSelect::Unique(nullptr, bytes, halves.Current(), halves.Alternate(),
                                             p.counters.data() + kCounters, n, stream));
   ensure_scratch(p.temp, bytes);
@@ -448,13 +445,7 @@ void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& li
   SNAG_CUDA_CHECK_LAUNCH();
   cub::DoubleBuffer<std::uint64_t> keys(p.order_keys.data(), p.order_keys_spare.data());
   cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
-  const int end_bit = 32 + radix_bits(cells > 0 ? cells - 1 : 0);
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, ids, registrations, 0, end_bit, stream));
-  ensure_scratch(p.temp, bytes, check);
-  bytes = p.temp.size();
-  SNAG_CUDA_CHECK(
-      cub::DeviceRadixSort::SortPairs(p.temp.data(), bytes, keys, ids, registrations, 0, end_bit, stream));
+  radix_sort_pairs(keys, ids, registrations, 32 + radix_bits(cells > 0 ? cells - 1 : 0), p.temp, stream, check);
   gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
       leaves, ids.Current(), registrations, p.registered.data());
   SNAG_CUDA_CHECK_LAUNCH();

@@ -4,7 +4,6 @@
 // using representative-triangles", I3D 2008; Klosowski et al. 1998 (k-DOPs).
 #include "libcd/cuda/representative_triangles.cuh"
 
-#include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
 
 #include <algorithm>
@@ -20,9 +19,9 @@ namespace snag {
 namespace {
 
 using detail::blocks_for;
-using detail::ensure_scratch;
 using detail::exclusive_sum;
 using detail::radix_bits;
+using detail::radix_sort_keys;
 using detail::thread_item;
 
 __device__ __forceinline__ bool is_corner(const Triangle& t, Index v) { return t[0] == v || t[1] == v || t[2] == v; }
@@ -139,11 +138,7 @@ const std::uint64_t* sort_keys(std::uint64_t* keys, std::uint64_t* spare, std::s
                                DeviceBuffer<unsigned char>& temp, cudaStream_t stream) {
   if (n == 0) return keys;
   cub::DoubleBuffer<std::uint64_t> halves(keys, spare);
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, halves, n, 0, end_bit, stream));
-  ensure_scratch(temp, bytes);
-  bytes = temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(temp.data(), bytes, halves, n, 0, end_bit, stream));
+  radix_sort_keys(halves, n, end_bit, temp, stream);
   return halves.Current();
 }
 
