@@ -1,9 +1,9 @@
 #include "report/frame_digest.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 namespace snag::report {
@@ -33,8 +33,7 @@ void FrameDigester::Tally::add(const Tally& other) {
   allowed += other.allowed;
   not_checked += other.not_checked;
   neighbourhood += other.neighbourhood;
-  if (allow_counts.size() < other.allow_counts.size()) allow_counts.resize(other.allow_counts.size(), 0);
-  for (std::size_t rule = 0; rule < other.allow_counts.size(); ++rule) allow_counts[rule] += other.allow_counts[rule];
+  for (std::size_t rule = 0; rule < allow_counts.size(); ++rule) allow_counts[rule] += other.allow_counts[rule];
   for (const auto& [key, counts] : other.pairs) {
     auto [it, inserted] = pairs.try_emplace(key, counts);
     if (!inserted) {
@@ -79,7 +78,6 @@ void FrameDigester::tally(const std::vector<Event>& events, std::size_t begin, s
       allowed_by[i] = d.rule;
       ++sum.allowed;
       ++last_pair->allowed;
-      if (sum.allow_counts.size() <= d.rule) sum.allow_counts.resize(d.rule + 1, 0);
       ++sum.allow_counts[d.rule];
       continue;
     }
@@ -110,8 +108,10 @@ void FrameDigester::digest(ScannedFrame& frame, FrameDigest& digest) {
   dispositions_.resize(count);
   in_region_.resize(count);
   digest.allowed_by.resize(count);
-  const Tally total = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, count, kEventsPerTask), Tally{},
+  Tally none;
+  none.allow_counts.assign(rules_.rules().allow.size(), 0);
+  Tally total = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, count, kEventsPerTask), none,
       [&](const tbb::blocked_range<std::size_t>& range, Tally sum) {
         tally(events, range.begin(), range.end(), digest.allowed_by, sum);
         return sum;
@@ -128,8 +128,7 @@ void FrameDigester::digest(ScannedFrame& frame, FrameDigest& digest) {
   record.allowed = total.allowed;
   digest.not_checked = total.not_checked;
   digest.neighbourhood = total.neighbourhood;
-  digest.allow_counts.assign(rules_.rules().allow.size(), 0);
-  for (std::size_t rule = 0; rule < total.allow_counts.size(); ++rule) digest.allow_counts[rule] = total.allow_counts[rule];
+  digest.allow_counts = std::move(total.allow_counts);
   digest.pairs.clear();
   for (const auto& [key, counts] : total.pairs) digest.pairs.push_back(counts);
 

@@ -70,7 +70,7 @@ class FrameDigester {
   struct Tally {
     std::size_t collisions = 0, vf = 0, ee = 0, uncertain = 0, intersections = 0, allowed = 0;
     std::size_t not_checked = 0, neighbourhood = 0;
-    std::vector<std::size_t> allow_counts;  ///< per allow rule, up to the last that matched
+    std::vector<std::size_t> allow_counts;  ///< per allow rule
     std::map<PairKey, PairCounts> pairs;
     void add(const Tally& other);
   };
