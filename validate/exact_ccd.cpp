@@ -98,13 +98,16 @@
 #include "validate/exact_ccd.hpp"
 
 #include <CGAL/Algebraic_kernel_d_1.h>
+#include <CGAL/FPU.h>
 #include <CGAL/Gmpq.h>
 #include <CGAL/Gmpz.h>
+#include <CGAL/Interval_nt.h>
 
 #include <gmp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -122,70 +125,100 @@ using IntegerPolynomial = AlgebraicKernel::Polynomial_1;
 using Bound = AlgebraicKernel::Bound;
 
 // ---------------------------------------------------------------------------
-// Univariate polynomials in t with rational coefficients, lowest degree first,
-// without trailing zeros (the zero polynomial is empty).
+// Univariate polynomials in t, lowest degree first, over a number type NT:
+// Rational (exact) or Interval (each coefficient an interval that holds the
+// exact one; see "The interval filter"). Trailing coefficients that are
+// certainly zero are dropped, so the exact zero polynomial is empty.
 
-using Poly = std::vector<Rational>;
+/// Intervals with outward rounding; valid only under Protect_FPU_rounding.
+using Interval = CGAL::Interval_nt_advanced;
 
-void trim(Poly& p) {
-  while (!p.empty() && CGAL::is_zero(p.back())) p.pop_back();
+template <class NT>
+using PolyOf = std::vector<NT>;
+using Poly = PolyOf<Rational>;
+
+bool certainly_zero(const Rational& x) { return CGAL::is_zero(x); }
+bool certainly_zero(const Interval& x) { return x.inf() == 0 && x.sup() == 0; }
+
+template <class NT>
+void trim(PolyOf<NT>& p) {
+  while (!p.empty() && certainly_zero(p.back())) p.pop_back();
 }
 
-Poly operator+(const Poly& a, const Poly& b) {
-  Poly r(std::max(a.size(), b.size()));
+template <class NT>
+PolyOf<NT> operator+(const PolyOf<NT>& a, const PolyOf<NT>& b) {
+  PolyOf<NT> r(std::max(a.size(), b.size()), NT(0));
   for (std::size_t i = 0; i < a.size(); ++i) r[i] += a[i];
   for (std::size_t i = 0; i < b.size(); ++i) r[i] += b[i];
   trim(r);
   return r;
 }
 
-Poly operator-(const Poly& a, const Poly& b) {
-  Poly r(std::max(a.size(), b.size()));
+template <class NT>
+PolyOf<NT> operator-(const PolyOf<NT>& a, const PolyOf<NT>& b) {
+  PolyOf<NT> r(std::max(a.size(), b.size()), NT(0));
   for (std::size_t i = 0; i < a.size(); ++i) r[i] += a[i];
   for (std::size_t i = 0; i < b.size(); ++i) r[i] -= b[i];
   trim(r);
   return r;
 }
 
-Poly operator*(const Poly& a, const Poly& b) {
+template <class NT>
+PolyOf<NT> operator*(const PolyOf<NT>& a, const PolyOf<NT>& b) {
   if (a.empty() || b.empty()) return {};
-  Poly r(a.size() + b.size() - 1);
+  PolyOf<NT> r(a.size() + b.size() - 1, NT(0));
   for (std::size_t i = 0; i < a.size(); ++i)
     for (std::size_t j = 0; j < b.size(); ++j) r[i + j] += a[i] * b[j];
   trim(r);
   return r;
 }
 
-Poly scaled(const Poly& a, const Rational& s) {
-  Poly r = a;
+template <class NT>
+PolyOf<NT> scaled(const PolyOf<NT>& a, const NT& s) {
+  PolyOf<NT> r = a;
   for (auto& c : r) c *= s;
   trim(r);
   return r;
 }
 
-struct PolyVec3 {
-  Poly x, y, z;
+template <class NT>
+struct PolyVec3Of {
+  PolyOf<NT> x, y, z;
 };
+using PolyVec3 = PolyVec3Of<Rational>;
 
-PolyVec3 operator-(const PolyVec3& a, const PolyVec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-Poly dot(const PolyVec3& a, const PolyVec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-PolyVec3 cross(const PolyVec3& a, const PolyVec3& b) {
+template <class NT>
+PolyVec3Of<NT> operator-(const PolyVec3Of<NT>& a, const PolyVec3Of<NT>& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+template <class NT>
+PolyOf<NT> dot(const PolyVec3Of<NT>& a, const PolyVec3Of<NT>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <class NT>
+PolyVec3Of<NT> cross(const PolyVec3Of<NT>& a, const PolyVec3Of<NT>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-Poly squared_norm(const PolyVec3& a) { return dot(a, a); }
+template <class NT>
+PolyOf<NT> squared_norm(const PolyVec3Of<NT>& a) {
+  return dot(a, a);
+}
 
 /// The linear motion x_t0 + t (x_t1 - x_t0) of one coordinate.
-Poly linear_motion(const Rational& x_t0, const Rational& x_t1) {
-  Poly p{x_t0, x_t1 - x_t0};
+template <class NT>
+PolyOf<NT> linear_motion(const NT& x_t0, const NT& x_t1) {
+  PolyOf<NT> p{x_t0, x_t1 - x_t0};
   trim(p);
   return p;
 }
 
-using RationalPoint = std::array<Rational, 3>;
+template <class NT>
+using PointOf = std::array<NT, 3>;
+using RationalPoint = PointOf<Rational>;
 
-PolyVec3 linear_motion(const RationalPoint& p_t0, const RationalPoint& p_t1) {
-  return {linear_motion(p_t0[0], p_t1[0]), linear_motion(p_t0[1], p_t1[1]),
-          linear_motion(p_t0[2], p_t1[2])};
+template <class NT>
+PolyVec3Of<NT> linear_motion(const PointOf<NT>& p_t0, const PointOf<NT>& p_t1) {
+  return {linear_motion(p_t0[0], p_t1[0]), linear_motion(p_t0[1], p_t1[1]), linear_motion(p_t0[2], p_t1[2])};
 }
 
 /// p times the positive lcm of its denominators: same signs, integer coefficients.
@@ -205,30 +238,41 @@ IntegerPolynomial to_integer_polynomial(const Poly& p) {
 // ---------------------------------------------------------------------------
 // The atoms, and their signs at one candidate time.
 
-class SignSystem {
+/// The atoms of one query, each a polynomial over NT. The same builders
+/// (add_point_triangle, add_segment_segment) give both systems of a query
+/// the same atom numbers.
+template <class NT>
+class SignSystemOf {
  public:
-  int add(const Poly& p) {
+  int add(const PolyOf<NT>& p) {
     polys_.push_back(p);
     return static_cast<int>(polys_.size()) - 1;
   }
 
   std::size_t size() const { return polys_.size(); }
-  const Poly& poly(std::size_t i) const { return polys_[i]; }
+  const PolyOf<NT>& poly(std::size_t i) const { return polys_[i]; }
+
+ private:
+  std::vector<PolyOf<NT>> polys_;
+};
+
+/// The exact atoms, with their integer forms for the algebraic kernel.
+class SignSystem : public SignSystemOf<Rational> {
+ public:
   /// poly(i) with integer coefficients, converted on first use.
   const IntegerPolynomial& integer_poly(std::size_t i) const {
-    if (integer_polys_.size() < polys_.size()) {
-      integer_polys_.resize(polys_.size());
-      converted_.resize(polys_.size(), false);
+    if (integer_polys_.size() < size()) {
+      integer_polys_.resize(size());
+      converted_.resize(size(), false);
     }
     if (!converted_[i]) {
-      integer_polys_[i] = to_integer_polynomial(polys_[i]);
+      integer_polys_[i] = to_integer_polynomial(poly(i));
       converted_[i] = true;
     }
     return integer_polys_[i];
   }
 
  private:
-  std::vector<Poly> polys_;
   mutable std::vector<IntegerPolynomial> integer_polys_;
   mutable std::vector<bool> converted_;
 };
@@ -301,17 +345,34 @@ struct SegmentSegmentAtoms {
   PointSegmentAtoms ends[4];   // a0, a1 against b; b0, b1 against a
 };
 
-PointPointAtoms add_point_point(SignSystem& system, const PolyVec3& p, const PolyVec3& a,
-                                const Rational& d2) {
-  return {system.add(squared_norm(p - a) - Poly{d2})};
+// The coplanarity cubics: zero exactly when the four points are coplanar.
+// Each is the plane atom's w.n, or (p - a).n, so the plane atom is its
+// square when d = 0.
+template <class NT>
+PolyOf<NT> vertex_face_coplanarity(const PolyVec3Of<NT>& p, const PolyVec3Of<NT>& a, const PolyVec3Of<NT>& b,
+                                   const PolyVec3Of<NT>& c) {
+  return dot(p - a, cross(b - a, c - a));
 }
 
-PointSegmentAtoms add_point_segment(SignSystem& system, const PolyVec3& p, const PolyVec3& a,
-                                    const PolyVec3& b, const Rational& d2) {
-  const PolyVec3 e = b - a;
-  const PolyVec3 pa = p - a;
-  const Poly length = squared_norm(e);
-  const Poly along = dot(pa, e);
+template <class NT>
+PolyOf<NT> edge_edge_coplanarity(const PolyVec3Of<NT>& a0, const PolyVec3Of<NT>& a1, const PolyVec3Of<NT>& b0,
+                                 const PolyVec3Of<NT>& b1) {
+  return dot(b0 - a0, cross(a1 - a0, b1 - b0));
+}
+
+template <class NT>
+PointPointAtoms add_point_point(SignSystemOf<NT>& system, const PolyVec3Of<NT>& p, const PolyVec3Of<NT>& a,
+                                const NT& d2) {
+  return {system.add(squared_norm(p - a) - PolyOf<NT>{d2})};
+}
+
+template <class NT>
+PointSegmentAtoms add_point_segment(SignSystemOf<NT>& system, const PolyVec3Of<NT>& p, const PolyVec3Of<NT>& a,
+                                    const PolyVec3Of<NT>& b, const NT& d2) {
+  const PolyVec3Of<NT> e = b - a;
+  const PolyVec3Of<NT> pa = p - a;
+  const PolyOf<NT> length = squared_norm(e);
+  const PolyOf<NT> along = dot(pa, e);
   PointSegmentAtoms atoms;
   atoms.end_a = add_point_point(system, p, a, d2);
   atoms.end_b = add_point_point(system, p, b, d2);
@@ -322,11 +383,12 @@ PointSegmentAtoms add_point_segment(SignSystem& system, const PolyVec3& p, const
   return atoms;
 }
 
-PointTriangleAtoms add_point_triangle(SignSystem& system, const PolyVec3& p, const PolyVec3& a,
-                                      const PolyVec3& b, const PolyVec3& c, const Rational& d2) {
-  const PolyVec3 n = cross(b - a, c - a);
-  const Poly normal = squared_norm(n);
-  const Poly plane = dot(p - a, n);
+template <class NT>
+PointTriangleAtoms add_point_triangle(SignSystemOf<NT>& system, const PolyVec3Of<NT>& p, const PolyVec3Of<NT>& a,
+                                      const PolyVec3Of<NT>& b, const PolyVec3Of<NT>& c, const NT& d2) {
+  const PolyVec3Of<NT> n = cross(b - a, c - a);
+  const PolyOf<NT> normal = squared_norm(n);
+  const PolyOf<NT> plane = dot(p - a, n);
   PointTriangleAtoms atoms;
   atoms.normal = system.add(normal);
   atoms.barycentric[0] = system.add(dot(cross(b - a, p - a), n));
@@ -339,15 +401,16 @@ PointTriangleAtoms add_point_triangle(SignSystem& system, const PolyVec3& p, con
   return atoms;
 }
 
-SegmentSegmentAtoms add_segment_segment(SignSystem& system, const PolyVec3& a0, const PolyVec3& a1,
-                                        const PolyVec3& b0, const PolyVec3& b1,
-                                        const Rational& d2) {
-  const PolyVec3 da = a1 - a0, db = b1 - b0, w = b0 - a0;
-  const PolyVec3 n = cross(da, db);
-  const Poly normal = squared_norm(n);
-  const Poly along_a = dot(cross(w, db), n);
-  const Poly along_b = dot(cross(w, da), n);
-  const Poly plane = dot(w, n);
+template <class NT>
+SegmentSegmentAtoms add_segment_segment(SignSystemOf<NT>& system, const PolyVec3Of<NT>& a0,
+                                        const PolyVec3Of<NT>& a1, const PolyVec3Of<NT>& b0,
+                                        const PolyVec3Of<NT>& b1, const NT& d2) {
+  const PolyVec3Of<NT> da = a1 - a0, db = b1 - b0, w = b0 - a0;
+  const PolyVec3Of<NT> n = cross(da, db);
+  const PolyOf<NT> normal = squared_norm(n);
+  const PolyOf<NT> along_a = dot(cross(w, db), n);
+  const PolyOf<NT> along_b = dot(cross(w, da), n);
+  const PolyOf<NT> plane = dot(w, n);
   SegmentSegmentAtoms atoms;
   atoms.normal = system.add(normal);
   atoms.along_a = system.add(along_a);
@@ -434,10 +497,11 @@ std::string to_text(const Rational& q) {
   return out.str();
 }
 
+/// The smallest prec with 2^-prec <= toi_width.
+int toi_precision(double toi_width) { return static_cast<int>(std::ceil(-std::log2(toi_width))); }
+
 ExactCcdResult describe_contact(const AlgebraicReal& toi, double toi_width) {
-  // Smallest prec with 2^-prec <= toi_width.
-  const int prec = static_cast<int>(std::ceil(-std::log2(toi_width)));
-  std::pair<Bound, Bound> bounds = AlgebraicKernel::Approximate_absolute_1()(toi, prec);
+  std::pair<Bound, Bound> bounds = AlgebraicKernel::Approximate_absolute_1()(toi, toi_precision(toi_width));
   Bound lo = CGAL::max(bounds.first, Bound(0));
   Bound hi = CGAL::min(bounds.second, Bound(1));
   ExactCcdResult result;
@@ -498,6 +562,105 @@ ExactCcdResult earliest_contact(const SignSystem& system, const Atoms& atoms,
   return {};
 }
 
+// ---------------------------------------------------------------------------
+// The interval filter.
+//
+// Queries given as doubles with zero thickness are first decided with
+// interval arithmetic, which is exact when it decides. The atoms are built a
+// second time, with the same builders, from the same doubles, in intervals
+// (outward rounding) whose every coefficient holds the exact rational one.
+// Evaluated (Horner) at an interval of times holding t, an atom's interval
+// holds its exact value at t: when the interval excludes zero, or is exactly
+// [0, 0], it gives the exact sign. The decisions are then the rational
+// method's, in its order:
+//  - contact at t = 0: the atoms' signs at t = [0, 0];
+//  - the candidates: the roots in [0, 1] of the coplanarity cubic, computed
+//    exactly (a few rational products) and isolated by the algebraic kernel,
+//    as the rational method does; each root's isolating interval is refined
+//    to a width of 2^-52 or less before the atoms are evaluated over it;
+//  - at a root of the cubic the plane atom is exactly zero: with d = 0 it is
+//    the square of the cubic itself (off_plane = (w.n)^2, and the cubic is
+//    w.n, or (p - a).n for a vertex and a face), so its sign is taken as 0
+//    without evaluation.
+// When any sign the decision needs is not decided (an interval holds zero
+// and is not [0, 0]), or the cubic is the zero polynomial (coplanar for the
+// whole step), or the thickness is not zero, the filter gives up and the
+// rational method decides the query from the start.
+
+/// Signs of the interval atoms over an interval of times; undecided() once
+/// a sign asked for was not decided (the answer given for it then is 0).
+class IntervalSignsAt {
+ public:
+  /// known_zero: an atom exactly zero at every time of `t` (-1: none).
+  IntervalSignsAt(const SignSystemOf<Interval>& system, Interval t, int known_zero)
+      : system_(system), t_(t), known_zero_(known_zero) {}
+
+  int operator()(int atom) {
+    if (atom == known_zero_) return 0;
+    const PolyOf<Interval>& p = system_.poly(static_cast<std::size_t>(atom));
+    Interval value(0);
+    for (auto c = p.rbegin(); c != p.rend(); ++c) value = value * t_ + *c;
+    if (value.inf() > 0) return 1;
+    if (value.sup() < 0) return -1;
+    undecided_ = undecided_ || !certainly_zero(value);
+    return 0;
+  }
+  bool undecided() const { return undecided_; }
+
+ private:
+  const SignSystemOf<Interval>& system_;
+  Interval t_;
+  int known_zero_;
+  bool undecided_ = false;
+};
+
+/// Whether the atoms hold over the times `t`, or nullopt when a sign the
+/// answer needs is not decided. Interval arithmetic runs only in here.
+template <class Atoms>
+std::optional<bool> holds_over(const SignSystemOf<Interval>& system, const Atoms& atoms, Interval t, int known_zero) {
+  CGAL::Protect_FPU_rounding<true> upward;
+  IntervalSignsAt sign(system, t, known_zero);
+  const bool answer = holds(atoms, sign);
+  if (sign.undecided()) return std::nullopt;
+  return answer;
+}
+
+/// The times held by the isolating interval of t, refined to 2^-prec or less.
+Interval times_around(const AlgebraicReal& t, int prec) {
+  const std::pair<Bound, Bound> bounds = AlgebraicKernel::Approximate_absolute_1()(t, prec);
+  return Interval(CGAL::to_interval(bounds.first).first, CGAL::to_interval(bounds.second).second);
+}
+
+ExactCcdResult by_filter(ExactCcdResult result) {
+  result.filtered = true;
+  return result;
+}
+
+/// earliest_contact for zero thickness, decided in intervals where they
+/// suffice (see above); nullopt where the rational method must decide.
+template <class Atoms>
+std::optional<ExactCcdResult> filtered_earliest_contact(const SignSystemOf<Interval>& system, const Atoms& atoms,
+                                                        int plane_atom, const Poly& coplanarity,
+                                                        double toi_width) {
+  const std::optional<bool> at_start = holds_over(system, atoms, Interval(0), -1);
+  if (!at_start) return std::nullopt;
+  if (*at_start) return by_filter(contact_at_start());
+  if (coplanarity.empty()) return std::nullopt;
+  // A constant cubic has no roots: no contact, as the rational method finds
+  // (its atoms are then all constant, or the cubic's roots are searched).
+  std::vector<AlgebraicReal> candidates;
+  append_roots_in_unit_interval(coplanarity, candidates);
+  sort_unique(candidates);
+  for (const auto& t : candidates) {
+    // First as narrow as the answer's interval must be, then narrower.
+    std::optional<bool> contact = holds_over(system, atoms, times_around(t, toi_precision(toi_width)), plane_atom);
+    if (!contact) contact = holds_over(system, atoms, times_around(t, 52), plane_atom);
+    if (!contact) return std::nullopt;
+    if (*contact) return by_filter(describe_contact(t, toi_width));
+  }
+  return by_filter(ExactCcdResult{});
+}
+
 void check_parameters(double thickness, double toi_width) {
   if (!std::isfinite(thickness) || thickness < 0)
     throw UsageError("exact CCD: thickness must be finite and >= 0");
@@ -544,7 +707,7 @@ ExactCcdResult vertex_face(const std::array<Point, 8>& points, double thickness,
   const Rational d = to_rational(thickness);
   SignSystem system;
   const PointTriangleAtoms atoms = add_point_triangle(system, p, a, b, c, d * d);
-  const Poly coplanarity = dot(p - a, cross(b - a, c - a));
+  const Poly coplanarity = vertex_face_coplanarity(p, a, b, c);
   return earliest_contact(system, atoms, coplanarity, thickness == 0, toi_width);
 }
 
@@ -555,20 +718,78 @@ ExactCcdResult edge_edge(const std::array<Point, 8>& points, double thickness, d
   const Rational d = to_rational(thickness);
   SignSystem system;
   const SegmentSegmentAtoms atoms = add_segment_segment(system, a0, a1, b0, b1, d * d);
-  const Poly coplanarity = dot(b0 - a0, cross(a1 - a0, b1 - b0));
+  const Poly coplanarity = edge_edge_coplanarity(a0, a1, b0, b1);
   return earliest_contact(system, atoms, coplanarity, thickness == 0, toi_width);
+}
+
+/// The points' motions in intervals, or nullopt when a coordinate is not
+/// finite (the rational method then names the problem).
+std::optional<std::array<PolyVec3Of<Interval>, 4>> interval_motions(const std::array<Vec3, 8>& points) {
+  for (const Vec3& x : points)
+    if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) return std::nullopt;
+  CGAL::Protect_FPU_rounding<true> upward;
+  std::array<PolyVec3Of<Interval>, 4> m;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Vec3& x0 = points[i];
+    const Vec3& x1 = points[i + 4];
+    m[i] = linear_motion(PointOf<Interval>{Interval(x0.x), Interval(x0.y), Interval(x0.z)},
+                         PointOf<Interval>{Interval(x1.x), Interval(x1.y), Interval(x1.z)});
+  }
+  return m;
+}
+
+ExactCcdResult filtered_vertex_face(const std::array<Vec3, 8>& points, double thickness, double toi_width) {
+  check_parameters(thickness, toi_width);
+  if (thickness == 0) {
+    if (const auto motion = interval_motions(points)) {
+      SignSystemOf<Interval> system;
+      PointTriangleAtoms atoms;
+      {
+        CGAL::Protect_FPU_rounding<true> upward;
+        const auto& [ip, ia, ib, ic] = *motion;
+        atoms = add_point_triangle(system, ip, ia, ib, ic, Interval(0));
+      }
+      const auto [p, a, b, c] = motions(points);
+      const Poly coplanarity = vertex_face_coplanarity(p, a, b, c);
+      if (auto result = filtered_earliest_contact(system, atoms, atoms.off_plane, coplanarity, toi_width))
+        return *result;
+    }
+  }
+  return vertex_face(points, thickness, toi_width);
+}
+
+ExactCcdResult filtered_edge_edge(const std::array<Vec3, 8>& points, double thickness, double toi_width) {
+  check_parameters(thickness, toi_width);
+  if (thickness == 0) {
+    if (const auto motion = interval_motions(points)) {
+      SignSystemOf<Interval> system;
+      SegmentSegmentAtoms atoms;
+      {
+        CGAL::Protect_FPU_rounding<true> upward;
+        const auto& [ia0, ia1, ib0, ib1] = *motion;
+        atoms = add_segment_segment(system, ia0, ia1, ib0, ib1, Interval(0));
+      }
+      const auto [a0, a1, b0, b1] = motions(points);
+      const Poly coplanarity = edge_edge_coplanarity(a0, a1, b0, b1);
+      if (auto result = filtered_earliest_contact(system, atoms, atoms.off_plane, coplanarity, toi_width))
+        return *result;
+    }
+  }
+  return edge_edge(points, thickness, toi_width);
 }
 
 }  // namespace
 
-ExactCcdResult exact_vertex_face_ccd(const std::array<Vec3, 8>& points, double thickness,
-                                     double toi_width) {
-  return vertex_face(points, thickness, toi_width);
+ExactCcdResult exact_vertex_face_ccd(const std::array<Vec3, 8>& points, double thickness, double toi_width,
+                                     ExactMethod method) {
+  return method == ExactMethod::kFiltered ? filtered_vertex_face(points, thickness, toi_width)
+                                          : vertex_face(points, thickness, toi_width);
 }
 
-ExactCcdResult exact_edge_edge_ccd(const std::array<Vec3, 8>& points, double thickness,
-                                   double toi_width) {
-  return edge_edge(points, thickness, toi_width);
+ExactCcdResult exact_edge_edge_ccd(const std::array<Vec3, 8>& points, double thickness, double toi_width,
+                                   ExactMethod method) {
+  return method == ExactMethod::kFiltered ? filtered_edge_edge(points, thickness, toi_width)
+                                          : edge_edge(points, thickness, toi_width);
 }
 
 ExactCcdResult exact_vertex_face_ccd(const std::array<RationalVec3, 8>& points, double thickness,

@@ -25,7 +25,18 @@ struct ExactCcdResult {
   /// The same interval as exact rationals "num/den" (before rounding to
   /// doubles); equal when t* is known exactly. Empty when !collides.
   std::string toi_lo_exact, toi_hi_exact;
+  /// True when interval arithmetic decided the query (ExactMethod::kFiltered)
+  /// and the rational method did not run. The answer is exact either way.
+  bool filtered = false;
 };
+
+/// How a query given as doubles is decided. kFiltered first decides it with
+/// interval arithmetic over the same sign conditions, which settles most
+/// queries of zero thickness, and runs the rational method only when an
+/// interval cannot tell a sign; kRational always runs the rational method.
+/// Both give the same answer: collides, and a time of impact interval that
+/// holds the same t* (the interval itself may be refined differently).
+enum class ExactMethod { kFiltered, kRational };
 
 /// A point with exact rational coordinates, each written "num/den" or "num"
 /// in base 10 (for instance "-6589603590721879/162259276829213363391578010288128").
@@ -44,13 +55,13 @@ struct RationalVec3 {
 /// Throws snag::UsageError when thickness < 0, toi_width <= 0 or a value is
 /// not finite.
 ExactCcdResult exact_vertex_face_ccd(const std::array<Vec3, 8>& points, double thickness = 0,
-                                     double toi_width = 1e-9);
+                                     double toi_width = 1e-9, ExactMethod method = ExactMethod::kFiltered);
 
 /// Exact edge–edge CCD between the closed segments (ea0, ea1) and (eb0, eb1).
 /// points: ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1.
 /// Other parameters and exceptions as exact_vertex_face_ccd.
 ExactCcdResult exact_edge_edge_ccd(const std::array<Vec3, 8>& points, double thickness = 0,
-                                   double toi_width = 1e-9);
+                                   double toi_width = 1e-9, ExactMethod method = ExactMethod::kFiltered);
 
 /// exact_vertex_face_ccd on exact rational coordinates.
 /// Also throws snag::UsageError when a coordinate is not a rational "num/den".

@@ -457,5 +457,143 @@ TEST(ExactCcd, AgreesWithCgalPredicatesOnRandomInPlaneEdgeEdgeMotions) {
                                edge_edge_contact_at);
 }
 
+// ---------------------------------------------------------------------------
+// The interval filter (ExactMethod::kFiltered) against the rational method.
+
+struct FilterTally {
+  int queries = 0, filtered = 0, colliding = 0;
+};
+
+/// Both methods on one query given as doubles: the same answer, and time of
+/// impact intervals that both hold t* (so they meet) within the width asked.
+template <class Ccd>
+void expect_filter_agrees(Ccd ccd, const Points& q, double thickness, const std::string& where, FilterTally& tally) {
+  const ExactCcdResult filtered = ccd(q, thickness, ExactMethod::kFiltered);
+  const ExactCcdResult rational = ccd(q, thickness, ExactMethod::kRational);
+  ++tally.queries;
+  tally.filtered += filtered.filtered;
+  tally.colliding += rational.collides;
+  EXPECT_FALSE(rational.filtered) << where;
+  if (thickness > 0) EXPECT_FALSE(filtered.filtered) << where << ": the filter takes zero thickness only";
+  ASSERT_EQ(filtered.collides, rational.collides) << where;
+  if (!rational.collides) return;
+  const Rational lo(filtered.toi_lo_exact), hi(filtered.toi_hi_exact);
+  const Rational rational_lo(rational.toi_lo_exact), rational_hi(rational.toi_hi_exact);
+  EXPECT_LE(lo, rational_hi) << where;
+  EXPECT_LE(rational_lo, hi) << where;
+  EXPECT_LE(hi - lo, Rational(1e-9)) << where;
+  EXPECT_LE(filtered.toi_lo, filtered.toi_hi) << where;
+  EXPECT_LE(Rational(filtered.toi_lo), lo) << where;
+  EXPECT_GE(Rational(filtered.toi_hi), hi) << where;
+}
+
+const auto kVertexFace = [](const Points& q, double d, ExactMethod m) { return exact_vertex_face_ccd(q, d, 1e-9, m); };
+const auto kEdgeEdge = [](const Points& q, double d, ExactMethod m) { return exact_edge_edge_ccd(q, d, 1e-9, m); };
+
+TEST(ExactCcdFilter, GivesTheRationalMethodsAnswersOnTheQuerySetAsDoubles) {
+  for (const std::string kind : {"vertex-face", "edge-edge"}) {
+    FilterTally tally;
+    int truth_mismatches = 0;
+    const auto queries = all_queries(kind);
+    for (std::size_t i = 0; i < queries.size(); i += 2) {
+      Points points;
+      for (int k = 0; k < 8; ++k)
+        points[k] = {exact_double(queries[i].points[k].x), exact_double(queries[i].points[k].y),
+                     exact_double(queries[i].points[k].z)};
+      const std::string where = kind + " query " + std::to_string(i);
+      if (kind == "vertex-face") {
+        expect_filter_agrees(kVertexFace, points, 0, where, tally);
+        truth_mismatches += exact_vertex_face_ccd(points).collides != queries[i].truth;
+      } else {
+        expect_filter_agrees(kEdgeEdge, points, 0, where, tally);
+        truth_mismatches += exact_edge_edge_ccd(points).collides != queries[i].truth;
+      }
+    }
+    std::cout << kind << ": " << tally.queries << " queries, " << tally.colliding << " colliding, " << tally.filtered
+              << " decided by the filter\n";
+    EXPECT_EQ(truth_mismatches, 0) << kind;
+    // The set is mostly degenerate (exact contacts, shared planes): some
+    // queries go to the rational method and some do not.
+    EXPECT_GT(tally.filtered, 0) << kind;
+    EXPECT_LT(tally.filtered, tally.queries) << kind;
+  }
+}
+
+/// Random motions around a random triangle or edge: the vertex (or edge b)
+/// moves through the plane of the face (or across edge a) near its boundary,
+/// inside or outside, while the face's corners wobble: near misses and
+/// crossings at irrational times, what a cloth step's hard queries are made of.
+Points near_contact(std::mt19937_64& rng, bool edge_edge) {
+  std::uniform_real_distribution<double> unit(-1, 1), weight(-0.25, 1), small(-1e-3, 1e-3);
+  Points q;
+  for (int i = 0; i < 4; ++i) q[i] = {unit(rng), unit(rng), unit(rng)};
+  const Vec3 up{small(rng), small(rng), 0.5};
+  if (edge_edge) {
+    // Edge b crosses the line of edge a at parameter s, inside or outside.
+    const double s = weight(rng) * 1.25;
+    const Vec3 at = q[0] + s * (q[1] - q[0]);
+    const Vec3 half{unit(rng), unit(rng), 0};
+    q[2] = at + half + up;
+    q[3] = at - half + up;
+  } else {
+    const double w1 = weight(rng), w2 = weight(rng);
+    q[0] = q[1] + w1 * (q[2] - q[1]) + w2 * (q[3] - q[1]) + up;
+  }
+  const Vec3 push{small(rng), small(rng), -1};
+  for (int i = 0; i < 4; ++i) {
+    const bool moving = i == 0 || (edge_edge && i >= 2);
+    q[i + 4] = q[i] + (moving ? push : Vec3{small(rng), small(rng), small(rng)});
+  }
+  return q;
+}
+
+TEST(ExactCcdFilter, DecidesNearContactsAsTheRationalMethodDoes) {
+  std::mt19937_64 rng(2026);
+  for (const bool edge_edge : {false, true}) {
+    FilterTally tally;
+    for (int trial = 0; trial < 300; ++trial) {
+      const Points q = near_contact(rng, edge_edge);
+      const std::string where = std::string(edge_edge ? "EE" : "VF") + " trial " + std::to_string(trial);
+      expect_filter_agrees(edge_edge ? +kEdgeEdge : +kVertexFace, q, 0, where, tally);
+      if (trial % 10 == 0) expect_filter_agrees(edge_edge ? +kEdgeEdge : +kVertexFace, q, 0x1p-10, where, tally);
+    }
+    std::cout << (edge_edge ? "edge-edge" : "vertex-face") << ": " << tally.queries << " near contacts, "
+              << tally.colliding << " colliding, " << tally.filtered << " decided by the filter\n";
+    // Nothing here is exactly degenerate: every zero-thickness query is the
+    // filter's, and there are both answers.
+    EXPECT_EQ(tally.filtered, 300);
+    EXPECT_GT(tally.colliding, 30);
+    EXPECT_LT(tally.colliding, 300);
+  }
+}
+
+TEST(ExactCcdFilter, LeavesExactDegeneraciesToTheRationalMethod) {
+  // A generic crossing at t = 1/3: the filter's.
+  const Points crossing = motion({Vec3{0.25, 0.25, 1}, kA, kB, kC}, {Vec3{0.25, 0.25, -2}, kA, kB, kC});
+  EXPECT_TRUE(exact_vertex_face_ccd(crossing).filtered);
+  expect_toi(exact_vertex_face_ccd(crossing), Rational(1, 3));
+  // The vertex crosses the face's plane exactly on edge ab (y = 0) at
+  // t = 1/3, which no interval around 1/3 can tell from inside or outside.
+  const Points on_edge = motion({Vec3{0.25, 1, 1}, kA, kB, kC}, {Vec3{0.25, -2, -2}, kA, kB, kC});
+  EXPECT_FALSE(exact_vertex_face_ccd(on_edge).filtered);
+  expect_toi(exact_vertex_face_ccd(on_edge), Rational(1, 3));
+  // Coplanar for the whole step: the cubic is the zero polynomial.
+  const Points sliding = motion({Vec3{2, 0.25, 0}, kA, kB, kC}, {Vec3{-1, 0.25, 0}, kA, kB, kC});
+  EXPECT_FALSE(exact_vertex_face_ccd(sliding).filtered);
+  expect_toi(exact_vertex_face_ccd(sliding), Rational(5, 12));
+  // A thickness: the rational method.
+  EXPECT_FALSE(exact_vertex_face_ccd(crossing, 0.125).filtered);
+  // Contact at t = 0 read from the start's signs, and a clear miss.
+  EXPECT_TRUE(exact_vertex_face_ccd(motion({Vec3{0.25, 0.25, 0}, kA, kB, kC}, {Vec3{0.25, 0.25, 5}, kA, kB, kC})).filtered);
+  const ExactCcdResult miss = exact_edge_edge_ccd(motion({Vec3{0, 0, 1}, Vec3{1, 0, 1}, Vec3{3, -1, 0}, Vec3{3, 1, 0}},
+                                                         {Vec3{0, 0, -2}, Vec3{1, 0, -2}, Vec3{3, -1, 0}, Vec3{3, 1, 0}}));
+  EXPECT_TRUE(miss.filtered);
+  EXPECT_FALSE(miss.collides);
+  // Not finite: the rational method names the problem.
+  Points bad = crossing;
+  bad[2].y = std::nan("");
+  EXPECT_THROW(exact_vertex_face_ccd(bad), UsageError);
+}
+
 }  // namespace
 }  // namespace snag::validate
