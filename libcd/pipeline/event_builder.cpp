@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <type_traits>
 
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
@@ -19,6 +21,134 @@ namespace {
 // Events per task of the passes over a step's events: each is a few
 // nanoseconds of work.
 constexpr std::size_t kEventsPerTask = 8192;
+/// Up to this many sorted runs, sort_events_from merges them; more, it sorts.
+constexpr std::size_t kMostRunsToMerge = 4096;
+
+static_assert(std::is_trivially_copyable_v<Event> && std::is_trivially_destructible_v<Event>);
+
+/// Room for events not constructed yet, filled with std::uninitialized_copy
+/// on any thread: a step's events are tens of megabytes, which a vector
+/// would first fill with default events on one thread. Events need no
+/// destruction.
+class EventRoom {
+ public:
+  explicit EventRoom(std::size_t count) : data_(std::allocator<Event>().allocate(count)), count_(count) {}
+  ~EventRoom() { std::allocator<Event>().deallocate(data_, count_); }
+  EventRoom(const EventRoom&) = delete;
+  EventRoom& operator=(const EventRoom&) = delete;
+  Event* data() const { return data_; }
+
+ private:
+  Event* data_;
+  std::size_t count_;
+};
+
+/// Copies the room's `count` events over events[at, at + count), on all threads.
+void copy_back(const EventRoom& room, std::size_t count, std::vector<Event>& events, std::size_t at) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kEventsPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      std::copy(room.data() + range.begin(), room.data() + range.end(),
+                                events.begin() + static_cast<std::ptrdiff_t>(at + range.begin()));
+                    });
+}
+
+/// Removes events[dropped[0]], events[dropped[1]], ... (ascending), the
+/// order kept: each event after the first dropped one moves down by the
+/// number dropped before it, out of place (a block's targets are the
+/// sources of the block before it), on all threads.
+void remove_events(std::vector<Event>& events, const std::vector<std::size_t>& dropped) {
+  const std::size_t from = dropped.front(), kept = events.size() - from - dropped.size();
+  EventRoom room(kept);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(from, events.size(), kEventsPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      auto next = std::lower_bound(dropped.begin(), dropped.end(), range.begin());
+                      for (std::size_t k = range.begin(); k < range.end();) {
+                        const std::size_t end = next != dropped.end() ? std::min(*next, range.end()) : range.end();
+                        const auto before = static_cast<std::size_t>(next - dropped.begin());
+                        std::uninitialized_copy(events.begin() + static_cast<std::ptrdiff_t>(k),
+                                                events.begin() + static_cast<std::ptrdiff_t>(end),
+                                                room.data() + (k - from - before));
+                        k = end;
+                        if (next != dropped.end() && *next == k) {
+                          ++k;
+                          ++next;
+                        }
+                      }
+                    });
+  copy_back(room, kept, events, from);
+  events.resize(from + kept);
+}
+
+/// Where the runs of events[first, end) that are in event order start,
+/// after `first` itself: the events out of order with the one before them.
+std::vector<std::size_t> run_starts(const std::vector<Event>& events, std::size_t first) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(first + 1, events.size(), kEventsPerTask), std::vector<std::size_t>{},
+      [&](const tbb::blocked_range<std::size_t>& range, std::vector<std::size_t> starts) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i)
+          if (event_order(events[i], events[i - 1])) starts.push_back(i);
+        return starts;
+      },
+      [](std::vector<std::size_t> left, const std::vector<std::size_t>& right) {  // left holds the earlier events
+        left.insert(left.end(), right.begin(), right.end());
+        return left;
+      });
+}
+
+/// Merges the sorted runs of events[bounds.front(), bounds.back()) (run r is
+/// [bounds[r], bounds[r + 1])) into event order. The output is cut into
+/// parts at splitter events sampled evenly from the input; each run is cut
+/// at each splitter by a binary search, so part p takes from every run the
+/// events between splitters p and p + 1, and its place in the output is the
+/// count of events before its splitter. The parts merge on all threads.
+void merge_runs(std::vector<Event>& events, const std::vector<std::size_t>& bounds) {
+  const std::size_t first = bounds.front(), count = bounds.back() - first, runs = bounds.size() - 1;
+  const std::size_t parts = std::max<std::size_t>(1, count / kEventsPerTask);
+  std::vector<Event> splitters;  // splitters[p - 1] starts part p
+  for (std::size_t p = 1; p < parts; ++p) splitters.push_back(events[first + p * count / parts]);
+  std::sort(splitters.begin(), splitters.end(), event_order);
+  // cuts[p * runs + r]: where part p starts in run r.
+  std::vector<std::size_t> cuts((parts + 1) * runs);
+  tbb::parallel_for(std::size_t{0}, parts + 1, [&](std::size_t p) {
+    for (std::size_t r = 0; r < runs; ++r) {
+      const auto run_begin = events.begin() + static_cast<std::ptrdiff_t>(bounds[r]);
+      const auto run_end = events.begin() + static_cast<std::ptrdiff_t>(bounds[r + 1]);
+      cuts[p * runs + r] = p == 0       ? bounds[r]
+                           : p == parts ? bounds[r + 1]
+                                        : static_cast<std::size_t>(
+                                              std::lower_bound(run_begin, run_end, splitters[p - 1], event_order) -
+                                              events.begin());
+    }
+  });
+  EventRoom room(count);
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
+    struct Cursor {
+      const Event* at;
+      const Event* end;
+    };
+    // A heap of the runs' pieces, the one with the least next event on top.
+    const auto later = [](const Cursor& x, const Cursor& y) { return event_order(*y.at, *x.at); };
+    std::vector<Cursor> heap;
+    std::size_t out = 0;
+    for (std::size_t r = 0; r < runs; ++r) {
+      out += cuts[p * runs + r] - bounds[r];
+      if (cuts[p * runs + r] < cuts[(p + 1) * runs + r])
+        heap.push_back({events.data() + cuts[p * runs + r], events.data() + cuts[(p + 1) * runs + r]});
+    }
+    std::make_heap(heap.begin(), heap.end(), later);
+    Event* to = room.data() + out;
+    while (!heap.empty()) {
+      std::pop_heap(heap.begin(), heap.end(), later);
+      Cursor& next = heap.back();
+      ::new (static_cast<void*>(to++)) Event(*next.at++);
+      if (next.at == next.end)
+        heap.pop_back();
+      else
+        std::push_heap(heap.begin(), heap.end(), later);
+    }
+  });
+  copy_back(room, count, events, first);
+}
 
 ExactAnswer decide_exactly(const Certifier& certifier, const Scene& scene, const std::vector<Vec3>& x_t0,
                            const std::vector<Vec3>& x_t1, const VertexFaceCandidate& c, double thickness) {
@@ -152,15 +282,15 @@ Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const T
 
 void sort_events_from(std::vector<Event>& events, std::size_t first) {
   if (events.size() <= first + 1) return;
-  // Each block checks its events against the one before them.
-  const bool sorted = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(first + 1, events.size(), kEventsPerTask), true,
-      [&](const tbb::blocked_range<std::size_t>& range, bool so_far) {
-        for (std::size_t i = range.begin(); so_far && i < range.end(); ++i) so_far = !event_order(events[i], events[i - 1]);
-        return so_far;
-      },
-      [](bool a, bool b) { return a && b; });
-  if (!sorted) tbb::parallel_sort(events.begin() + static_cast<std::ptrdiff_t>(first), events.end(), event_order);
+  std::vector<std::size_t> bounds = run_starts(events, first);
+  if (bounds.empty()) return;
+  if (bounds.size() >= kMostRunsToMerge) {
+    tbb::parallel_sort(events.begin() + static_cast<std::ptrdiff_t>(first), events.end(), event_order);
+    return;
+  }
+  bounds.insert(bounds.begin(), first);
+  bounds.push_back(events.size());
+  merge_runs(events, bounds);
 }
 
 void append_events(std::vector<Event>& to, const Event* from, std::size_t count) {
@@ -254,15 +384,10 @@ std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>&
     e = e.type == ContactType::kVertexFace ? vertex_face_event(scene, x_t0, x_t1, vertex_face_of(e), results[j])
                                            : edge_edge_event(scene, x_t0, x_t1, edge_edge_of(e), results[j]);
   });
-  std::size_t j = 0;
-  while (j < uncertain.size() && results[j].answer != CcdAnswer::kNo) ++j;
-  if (j == uncertain.size()) return uncertain.size();
-  std::size_t kept = uncertain[j];  // the first dropped: the events after it move down
-  for (std::size_t k = uncertain[j]; k < events.size(); ++k) {
-    if (j < uncertain.size() && uncertain[j] == k && results[j++].answer == CcdAnswer::kNo) continue;
-    events[kept++] = events[k];
-  }
-  events.resize(kept);
+  std::vector<std::size_t> dropped;
+  for (std::size_t j = 0; j < uncertain.size(); ++j)
+    if (results[j].answer == CcdAnswer::kNo) dropped.push_back(uncertain[j]);
+  if (!dropped.empty()) remove_events(events, dropped);
   return uncertain.size();
 }
 

@@ -81,8 +81,10 @@ std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>&
 /// Sorts events[first, end) by event_order, in parallel (on the calling task arena). The collisions of a step usually
 /// arrive in that order already (candidates are sorted by the ids events are
 /// ordered by, vertex-face before edge-edge), and then nothing is moved: the
-/// check is one pass, on all threads. Event keys are unique, so the result
-/// does not depend on the input order.
+/// check is one pass, on all threads. A step found in chunks arrives as a
+/// few sorted runs (each chunk's vertex-face and edge-edge events), which
+/// are merged; more than a few thousand runs are sorted. Event keys are
+/// unique, so the result does not depend on the input order.
 void sort_events_from(std::vector<Event>& events, std::size_t first);
 
 /// Appends events [from, from + count) to `to`, copied on all threads (of

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -196,6 +197,7 @@ TEST(SettleCollisionEvents, LongListsAreSettledInPlaceAsTheirEventsAlone) {
   for (const Event& e : events) (e.type == ContactType::kVertexFace ? vf : ee) += 1;
   ASSERT_GT(undecided, 2u);
   ASSERT_GT(events.size(), 20000u);
+  ASSERT_LT(want.size(), events.size()) << "the search must rule some out, so that the events after them move down";
   NarrowPhaseStats stats;
   EXPECT_EQ(settle_collision_events(step.scene, step.x_t0, step.x_t1, vf, ee, CcdSettings{}, nullptr, stats, events, 0),
             undecided);
@@ -232,6 +234,38 @@ TEST(SortEventsFrom, FindsOneStepOutOfOrderAnywhereInALongList) {
   EXPECT_EQ(events[0].toi_lo, 1.0);
   EXPECT_EQ(events[1].toi_lo, 0.0);
   EXPECT_EQ(events[40000].toi_lo, 40000.0);
+}
+
+// A step found in chunks: each chunk's events in order, the chunks one after
+// the other. The runs are merged into event order, events before `first`
+// left alone; with more runs than are worth merging, the events are sorted.
+TEST(SortEventsFrom, MergesTheSortedRunsOfChunks) {
+  const std::vector<Event> sorted = ordered_events(120000);
+  for (std::size_t runs : {std::size_t{2}, std::size_t{21}, std::size_t{50}, std::size_t{5000}}) {
+    std::mt19937_64 rng(runs);
+    std::vector<std::vector<Event>> chunks(runs);
+    for (const Event& e : sorted) chunks[rng() % runs].push_back(e);  // each chunk stays in order
+    std::vector<Event> events = ordered_events(3);
+    events[0].toi_lo = 7;  // before `first`: not moved
+    for (const auto& chunk : chunks) events.insert(events.end(), chunk.begin(), chunk.end());
+    sort_events_from(events, 3);
+    EXPECT_EQ(events[0].toi_lo, 7.0);
+    events.erase(events.begin(), events.begin() + 3);
+    test::expect_same_events(sorted, events, std::to_string(runs) + " runs");
+  }
+  // Reversed: every event starts a run.
+  std::vector<Event> events(sorted.rbegin(), sorted.rend());
+  sort_events_from(events, 0);
+  test::expect_same_events(sorted, events, "reversed");
+  // Two runs, one of a single event, at either end.
+  events = sorted;
+  std::rotate(events.begin(), events.begin() + 1, events.end());
+  sort_events_from(events, 0);
+  test::expect_same_events(sorted, events, "first event last");
+  events = sorted;
+  std::rotate(events.rbegin(), events.rbegin() + 1, events.rend());
+  sort_events_from(events, 0);
+  test::expect_same_events(sorted, events, "last event first");
 }
 
 TEST(AppendEvents, CopiesALongListAfterWhatIsThere) {
