@@ -700,26 +700,39 @@ std::array<PolyVec3, 4> motions(const std::array<Point, 8>& points) {
   return m;
 }
 
-template <class Point>
-ExactCcdResult vertex_face(const std::array<Point, 8>& points, double thickness, double toi_width) {
-  check_parameters(thickness, toi_width);
-  const auto [p, a, b, c] = motions(points);
-  const Rational d = to_rational(thickness);
-  SignSystem system;
-  const PointTriangleAtoms atoms = add_point_triangle(system, p, a, b, c, d * d);
-  const Poly coplanarity = vertex_face_coplanarity(p, a, b, c);
-  return earliest_contact(system, atoms, coplanarity, thickness == 0, toi_width);
-}
+/// The two kinds of query: their atoms and coplanarity cubic, from the
+/// motions of their four points (in the row order of the query files).
+struct VertexFace {
+  template <class NT>
+  static PointTriangleAtoms atoms(SignSystemOf<NT>& system, const std::array<PolyVec3Of<NT>, 4>& m, const NT& d2) {
+    return add_point_triangle(system, m[0], m[1], m[2], m[3], d2);
+  }
+  template <class NT>
+  static PolyOf<NT> coplanarity(const std::array<PolyVec3Of<NT>, 4>& m) {
+    return vertex_face_coplanarity(m[0], m[1], m[2], m[3]);
+  }
+};
 
-template <class Point>
-ExactCcdResult edge_edge(const std::array<Point, 8>& points, double thickness, double toi_width) {
+struct EdgeEdge {
+  template <class NT>
+  static SegmentSegmentAtoms atoms(SignSystemOf<NT>& system, const std::array<PolyVec3Of<NT>, 4>& m, const NT& d2) {
+    return add_segment_segment(system, m[0], m[1], m[2], m[3], d2);
+  }
+  template <class NT>
+  static PolyOf<NT> coplanarity(const std::array<PolyVec3Of<NT>, 4>& m) {
+    return edge_edge_coplanarity(m[0], m[1], m[2], m[3]);
+  }
+};
+
+/// The rational method.
+template <class Kind, class Point>
+ExactCcdResult rational_ccd(const std::array<Point, 8>& points, double thickness, double toi_width) {
   check_parameters(thickness, toi_width);
-  const auto [a0, a1, b0, b1] = motions(points);
+  const std::array<PolyVec3, 4> m = motions(points);
   const Rational d = to_rational(thickness);
   SignSystem system;
-  const SegmentSegmentAtoms atoms = add_segment_segment(system, a0, a1, b0, b1, d * d);
-  const Poly coplanarity = edge_edge_coplanarity(a0, a1, b0, b1);
-  return earliest_contact(system, atoms, coplanarity, thickness == 0, toi_width);
+  const auto atoms = Kind::atoms(system, m, d * d);
+  return earliest_contact(system, atoms, Kind::coplanarity(m), thickness == 0, toi_width);
 }
 
 /// The points' motions in intervals, or nullopt when a coordinate is not
@@ -738,68 +751,47 @@ std::optional<std::array<PolyVec3Of<Interval>, 4>> interval_motions(const std::a
   return m;
 }
 
-ExactCcdResult filtered_vertex_face(const std::array<Vec3, 8>& points, double thickness, double toi_width) {
+/// The interval filter, then the rational method if it must.
+template <class Kind>
+ExactCcdResult filtered_ccd(const std::array<Vec3, 8>& points, double thickness, double toi_width) {
   check_parameters(thickness, toi_width);
   if (thickness == 0) {
     if (const auto motion = interval_motions(points)) {
       SignSystemOf<Interval> system;
-      PointTriangleAtoms atoms;
-      {
+      const auto atoms = [&] {
         CGAL::Protect_FPU_rounding<true> upward;
-        const auto& [ip, ia, ib, ic] = *motion;
-        atoms = add_point_triangle(system, ip, ia, ib, ic, Interval(0));
-      }
-      const auto [p, a, b, c] = motions(points);
-      const Poly coplanarity = vertex_face_coplanarity(p, a, b, c);
+        return Kind::atoms(system, *motion, Interval(0));
+      }();
+      const Poly coplanarity = Kind::coplanarity(motions(points));
       if (auto result = filtered_earliest_contact(system, atoms, atoms.off_plane, coplanarity, toi_width))
         return *result;
     }
   }
-  return vertex_face(points, thickness, toi_width);
-}
-
-ExactCcdResult filtered_edge_edge(const std::array<Vec3, 8>& points, double thickness, double toi_width) {
-  check_parameters(thickness, toi_width);
-  if (thickness == 0) {
-    if (const auto motion = interval_motions(points)) {
-      SignSystemOf<Interval> system;
-      SegmentSegmentAtoms atoms;
-      {
-        CGAL::Protect_FPU_rounding<true> upward;
-        const auto& [ia0, ia1, ib0, ib1] = *motion;
-        atoms = add_segment_segment(system, ia0, ia1, ib0, ib1, Interval(0));
-      }
-      const auto [a0, a1, b0, b1] = motions(points);
-      const Poly coplanarity = edge_edge_coplanarity(a0, a1, b0, b1);
-      if (auto result = filtered_earliest_contact(system, atoms, atoms.off_plane, coplanarity, toi_width))
-        return *result;
-    }
-  }
-  return edge_edge(points, thickness, toi_width);
+  return rational_ccd<Kind>(points, thickness, toi_width);
 }
 
 }  // namespace
 
 ExactCcdResult exact_vertex_face_ccd(const std::array<Vec3, 8>& points, double thickness, double toi_width,
                                      ExactMethod method) {
-  return method == ExactMethod::kFiltered ? filtered_vertex_face(points, thickness, toi_width)
-                                          : vertex_face(points, thickness, toi_width);
+  return method == ExactMethod::kFiltered ? filtered_ccd<VertexFace>(points, thickness, toi_width)
+                                          : rational_ccd<VertexFace>(points, thickness, toi_width);
 }
 
 ExactCcdResult exact_edge_edge_ccd(const std::array<Vec3, 8>& points, double thickness, double toi_width,
                                    ExactMethod method) {
-  return method == ExactMethod::kFiltered ? filtered_edge_edge(points, thickness, toi_width)
-                                          : edge_edge(points, thickness, toi_width);
+  return method == ExactMethod::kFiltered ? filtered_ccd<EdgeEdge>(points, thickness, toi_width)
+                                          : rational_ccd<EdgeEdge>(points, thickness, toi_width);
 }
 
 ExactCcdResult exact_vertex_face_ccd(const std::array<RationalVec3, 8>& points, double thickness,
                                      double toi_width) {
-  return vertex_face(points, thickness, toi_width);
+  return rational_ccd<VertexFace>(points, thickness, toi_width);
 }
 
 ExactCcdResult exact_edge_edge_ccd(const std::array<RationalVec3, 8>& points, double thickness,
                                    double toi_width) {
-  return edge_edge(points, thickness, toi_width);
+  return rational_ccd<EdgeEdge>(points, thickness, toi_width);
 }
 
 }  // namespace snag::validate
