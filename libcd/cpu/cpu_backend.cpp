@@ -75,7 +75,7 @@ class CpuBackend final : public Backend {
       const std::size_t first = events.size();
       run_ccd(x_t0, x_t1, vf_, events);
       run_ccd(x_t0, x_t1, ee_, events);
-      sort_events_from(events, first);
+      sort_events_from(events, first, &event_scratch_);
       stats_.narrow.seconds_ccd = seconds_since(start) - stats_.narrow.seconds_certify;
     });
   }
@@ -191,6 +191,7 @@ class CpuBackend final : public Backend {
   std::unique_ptr<tbb::task_arena> arena_;
   std::vector<VertexFaceCandidate> vf_;
   std::vector<EdgeEdgeCandidate> ee_;
+  EventScratch event_scratch_;  ///< the sort's room, kept from step to step
   // Static detection's arrays, reused from frame to frame.
   std::vector<TrianglePair> pairs_, intersecting_;
   std::vector<TriangleAxes> axes_;

@@ -238,8 +238,8 @@ class CudaBackend final : public Backend {
     const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] {
       settle_collision_events(*scene_, x_t0, x_t1, vf_count, ee_count, settings_.ccd, settings_.certifier,
-                              stats_.narrow, events, first);
-      sort_events_from(events, first);
+                              stats_.narrow, events, first, &event_scratch_);
+      sort_events_from(events, first, &event_scratch_);
     });
     stats_.narrow.seconds_ccd_events = seconds_since(events_start) - stats_.narrow.seconds_certify;
     // The narrow phase's rounds ran inside the broad phase's chunks.
@@ -449,6 +449,7 @@ class CudaBackend final : public Backend {
   FrameSlot slots_[2];
   unsigned long long use_clock_ = 0;
   StaticFound static_found_;
+  EventScratch event_scratch_;  ///< the settle's and the sort's room, kept from step to step
   bool static_seen_ = false;          ///< intersections() was called since bind()
   std::future<void> static_ahead_;    ///< find_static() running ahead, when valid
   int static_ahead_slot_ = -1;

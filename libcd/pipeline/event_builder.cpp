@@ -7,8 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
-#include <memory>
-#include <type_traits>
+#include <cstdint>
 
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
@@ -24,30 +23,11 @@ constexpr std::size_t kEventsPerTask = 8192;
 /// Up to this many sorted runs, sort_events_from merges them; more, it sorts.
 constexpr std::size_t kMostRunsToMerge = 4096;
 
-static_assert(std::is_trivially_copyable_v<Event> && std::is_trivially_destructible_v<Event>);
-
-/// Room for events not constructed yet, filled with std::uninitialized_copy
-/// on any thread: a step's events are tens of megabytes, which a vector
-/// would first fill with default events on one thread. Events need no
-/// destruction.
-class EventRoom {
- public:
-  explicit EventRoom(std::size_t count) : data_(std::allocator<Event>().allocate(count)), count_(count) {}
-  ~EventRoom() { std::allocator<Event>().deallocate(data_, count_); }
-  EventRoom(const EventRoom&) = delete;
-  EventRoom& operator=(const EventRoom&) = delete;
-  Event* data() const { return data_; }
-
- private:
-  Event* data_;
-  std::size_t count_;
-};
-
-/// Copies the room's `count` events over events[at, at + count), on all threads.
-void copy_back(const EventRoom& room, std::size_t count, std::vector<Event>& events, std::size_t at) {
+/// Copies scratch[0, count) over events[at, at + count), on all threads.
+void copy_back(const Event* scratch, std::size_t count, std::vector<Event>& events, std::size_t at) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kEventsPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      std::copy(room.data() + range.begin(), room.data() + range.end(),
+                      std::copy(scratch + range.begin(), scratch + range.end(),
                                 events.begin() + static_cast<std::ptrdiff_t>(at + range.begin()));
                     });
 }
@@ -56,18 +36,17 @@ void copy_back(const EventRoom& room, std::size_t count, std::vector<Event>& eve
 /// order kept: each event after the first dropped one moves down by the
 /// number dropped before it, out of place (a block's targets are the
 /// sources of the block before it), on all threads.
-void remove_events(std::vector<Event>& events, const std::vector<std::size_t>& dropped) {
+void remove_events(std::vector<Event>& events, const std::vector<std::size_t>& dropped, EventScratch& scratch) {
   const std::size_t from = dropped.front(), kept = events.size() - from - dropped.size();
-  EventRoom room(kept);
+  Event* room = scratch.room(kept);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(from, events.size(), kEventsPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       auto next = std::lower_bound(dropped.begin(), dropped.end(), range.begin());
                       for (std::size_t k = range.begin(); k < range.end();) {
                         const std::size_t end = next != dropped.end() ? std::min(*next, range.end()) : range.end();
                         const auto before = static_cast<std::size_t>(next - dropped.begin());
-                        std::uninitialized_copy(events.begin() + static_cast<std::ptrdiff_t>(k),
-                                                events.begin() + static_cast<std::ptrdiff_t>(end),
-                                                room.data() + (k - from - before));
+                        std::copy(events.begin() + static_cast<std::ptrdiff_t>(k),
+                                  events.begin() + static_cast<std::ptrdiff_t>(end), room + (k - from - before));
                         k = end;
                         if (next != dropped.end() && *next == k) {
                           ++k;
@@ -95,13 +74,28 @@ std::vector<std::size_t> run_starts(const std::vector<Event>& events, std::size_
       });
 }
 
+/// An event's place in event_order as two words, compared in order (frames
+/// below 2^61: kind and type take three bits under the frame).
+struct OrderKey {
+  std::uint64_t high, low;
+};
+
+OrderKey order_key(const Event& e) {
+  return {static_cast<std::uint64_t>(e.frame) << 3 | static_cast<std::uint64_t>(e.kind) << 2 |
+              static_cast<std::uint64_t>(e.type),
+          static_cast<std::uint64_t>(e.a) << 32 | e.b};
+}
+
+bool operator<(const OrderKey& x, const OrderKey& y) { return x.high < y.high || (x.high == y.high && x.low < y.low); }
+
 /// Merges the sorted runs of events[bounds.front(), bounds.back()) (run r is
 /// [bounds[r], bounds[r + 1])) into event order. The output is cut into
 /// parts at splitter events sampled evenly from the input; each run is cut
 /// at each splitter by a binary search, so part p takes from every run the
 /// events between splitters p and p + 1, and its place in the output is the
-/// count of events before its splitter. The parts merge on all threads.
-void merge_runs(std::vector<Event>& events, const std::vector<std::size_t>& bounds) {
+/// count of events before its splitter. The parts merge on all threads into
+/// the scratch room, which is copied back.
+void merge_runs(std::vector<Event>& events, const std::vector<std::size_t>& bounds, EventScratch& scratch) {
   const std::size_t first = bounds.front(), count = bounds.back() - first, runs = bounds.size() - 1;
   const std::size_t parts = std::max<std::size_t>(1, count / kEventsPerTask);
   std::vector<Event> splitters;  // splitters[p - 1] starts part p
@@ -120,31 +114,35 @@ void merge_runs(std::vector<Event>& events, const std::vector<std::size_t>& boun
                                               events.begin());
     }
   });
-  EventRoom room(count);
+  Event* room = scratch.room(count);
   tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
     struct Cursor {
+      OrderKey key;  // of *at
       const Event* at;
       const Event* end;
     };
     // A heap of the runs' pieces, the one with the least next event on top.
-    const auto later = [](const Cursor& x, const Cursor& y) { return event_order(*y.at, *x.at); };
+    const auto later = [](const Cursor& x, const Cursor& y) { return y.key < x.key; };
     std::vector<Cursor> heap;
     std::size_t out = 0;
     for (std::size_t r = 0; r < runs; ++r) {
       out += cuts[p * runs + r] - bounds[r];
-      if (cuts[p * runs + r] < cuts[(p + 1) * runs + r])
-        heap.push_back({events.data() + cuts[p * runs + r], events.data() + cuts[(p + 1) * runs + r]});
+      const Event* begin = events.data() + cuts[p * runs + r];
+      const Event* end = events.data() + cuts[(p + 1) * runs + r];
+      if (begin < end) heap.push_back({order_key(*begin), begin, end});
     }
     std::make_heap(heap.begin(), heap.end(), later);
-    Event* to = room.data() + out;
+    Event* to = room + out;
     while (!heap.empty()) {
       std::pop_heap(heap.begin(), heap.end(), later);
       Cursor& next = heap.back();
-      ::new (static_cast<void*>(to++)) Event(*next.at++);
-      if (next.at == next.end)
+      *to++ = *next.at++;
+      if (next.at == next.end) {
         heap.pop_back();
-      else
+      } else {
+        next.key = order_key(*next.at);
         std::push_heap(heap.begin(), heap.end(), later);
+      }
     }
   });
   copy_back(room, count, events, first);
@@ -280,7 +278,16 @@ Event intersection_event(const Scene& scene, const std::vector<Vec3>& x, const T
   return intersection_fields(pair.a, pair.b, a, b);
 }
 
-void sort_events_from(std::vector<Event>& events, std::size_t first) {
+Event* EventScratch::room(std::size_t count) {
+  if (events_.size() < count) {
+    events_.clear();
+    events_.shrink_to_fit();
+    events_.resize(count);
+  }
+  return events_.data();
+}
+
+void sort_events_from(std::vector<Event>& events, std::size_t first, EventScratch* scratch) {
   if (events.size() <= first + 1) return;
   std::vector<std::size_t> bounds = run_starts(events, first);
   if (bounds.empty()) return;
@@ -290,7 +297,8 @@ void sort_events_from(std::vector<Event>& events, std::size_t first) {
   }
   bounds.insert(bounds.begin(), first);
   bounds.push_back(events.size());
-  merge_runs(events, bounds);
+  EventScratch own;
+  merge_runs(events, bounds, scratch != nullptr ? *scratch : own);
 }
 
 void append_events(std::vector<Event>& to, const Event* from, std::size_t count) {
@@ -314,7 +322,7 @@ void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x,
 std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                                     std::size_t vf_tests, std::size_t ee_tests, const CcdSettings& settings,
                                     const Certifier* certifier, NarrowPhaseStats& stats, std::vector<Event>& events,
-                                    std::size_t first) {
+                                    std::size_t first, EventScratch* scratch) {
   // The vertex-face hits and the uncertain events, in order, on all threads.
   struct Found {
     std::size_t vf_hits = 0;
@@ -387,7 +395,9 @@ std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>&
   std::vector<std::size_t> dropped;
   for (std::size_t j = 0; j < uncertain.size(); ++j)
     if (results[j].answer == CcdAnswer::kNo) dropped.push_back(uncertain[j]);
-  if (!dropped.empty()) remove_events(events, dropped);
+  if (dropped.empty()) return uncertain.size();
+  EventScratch own;
+  remove_events(events, dropped, scratch != nullptr ? *scratch : own);
   return uncertain.size();
 }
 

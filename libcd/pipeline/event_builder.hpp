@@ -63,6 +63,18 @@ void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, 
                              std::size_t tests, CcdHits<EdgeEdgeCandidate>& hits, const Certifier* certifier,
                              double thickness, NarrowPhaseStats& stats, std::vector<Event>& events);
 
+/// Room that the passes over a step's events reuse from one step to the
+/// next (a back end keeps one): a step's events are tens of megabytes, and
+/// memory taken fresh each step costs a page fault for every page it writes.
+class EventScratch {
+ public:
+  /// At least `count` events of room, their contents unspecified.
+  Event* room(std::size_t count);
+
+ private:
+  std::vector<Event> events_;
+};
+
 /// For collision events built on the device from a screen's hits
 /// (CudaNarrowPhase::vertex_face_events, edge_edge_events): events[first,
 /// end) are the hits of vf_tests vertex-face and ee_tests edge-edge queries,
@@ -72,20 +84,22 @@ void append_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, 
 /// built again from the new answers and those that do not collide are
 /// dropped, the order kept. Adds to `stats` what append_collision_events
 /// adds after search by ccd_test, so that both give the same counts and the
-/// same events. Returns how many were searched.
+/// same events. Returns how many were searched. The dropped events are
+/// removed on all threads, through `scratch` (null: room of its own).
 std::size_t settle_collision_events(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
                                     std::size_t vf_tests, std::size_t ee_tests, const CcdSettings& settings,
                                     const Certifier* certifier, NarrowPhaseStats& stats, std::vector<Event>& events,
-                                    std::size_t first);
+                                    std::size_t first, EventScratch* scratch = nullptr);
 
 /// Sorts events[first, end) by event_order, in parallel (on the calling task arena). The collisions of a step usually
 /// arrive in that order already (candidates are sorted by the ids events are
 /// ordered by, vertex-face before edge-edge), and then nothing is moved: the
 /// check is one pass, on all threads. A step found in chunks arrives as a
 /// few sorted runs (each chunk's vertex-face and edge-edge events), which
-/// are merged; more than a few thousand runs are sorted. Event keys are
-/// unique, so the result does not depend on the input order.
-void sort_events_from(std::vector<Event>& events, std::size_t first);
+/// are merged, through `scratch` (null: room of its own); more than a few
+/// thousand runs are sorted. Event keys are unique, so the result does not
+/// depend on the input order.
+void sort_events_from(std::vector<Event>& events, std::size_t first, EventScratch* scratch = nullptr);
 
 /// Appends events [from, from + count) to `to`, copied on all threads (of
 /// the calling task arena): a step's events are many megabytes.
