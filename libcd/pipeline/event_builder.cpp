@@ -74,19 +74,22 @@ std::vector<std::size_t> run_starts(const std::vector<Event>& events, std::size_
       });
 }
 
-/// An event's place in event_order as two words, compared in order (frames
-/// below 2^61: kind and type take three bits under the frame).
+/// An event's place in event_order as three words, compared in order: the
+/// frame; kind and type; a and b.
 struct OrderKey {
-  std::uint64_t high, low;
+  std::uint64_t frame, kind_type, ids;
 };
 
 OrderKey order_key(const Event& e) {
-  return {static_cast<std::uint64_t>(e.frame) << 3 | static_cast<std::uint64_t>(e.kind) << 2 |
-              static_cast<std::uint64_t>(e.type),
+  return {e.frame, static_cast<std::uint64_t>(e.kind) << 2 | static_cast<std::uint64_t>(e.type),
           static_cast<std::uint64_t>(e.a) << 32 | e.b};
 }
 
-bool operator<(const OrderKey& x, const OrderKey& y) { return x.high < y.high || (x.high == y.high && x.low < y.low); }
+bool operator<(const OrderKey& x, const OrderKey& y) {
+  if (x.frame != y.frame) return x.frame < y.frame;
+  if (x.kind_type != y.kind_type) return x.kind_type < y.kind_type;
+  return x.ids < y.ids;
+}
 
 /// Merges the sorted runs of events[bounds.front(), bounds.back()) (run r is
 /// [bounds[r], bounds[r + 1])) into event order. The output is cut into
@@ -291,7 +294,7 @@ void sort_events_from(std::vector<Event>& events, std::size_t first, EventScratc
   if (events.size() <= first + 1) return;
   std::vector<std::size_t> bounds = run_starts(events, first);
   if (bounds.empty()) return;
-  if (bounds.size() >= kMostRunsToMerge) {
+  if (bounds.size() + 1 > kMostRunsToMerge) {
     tbb::parallel_sort(events.begin() + static_cast<std::ptrdiff_t>(first), events.end(), event_order);
     return;
   }
