@@ -576,8 +576,9 @@ ExactCcdResult earliest_contact(const SignSystem& system, const Atoms& atoms,
 //  - contact at t = 0: the atoms' signs at t = [0, 0];
 //  - the candidates: the roots in [0, 1] of the coplanarity cubic, computed
 //    exactly (a few rational products) and isolated by the algebraic kernel,
-//    as the rational method does; each root's isolating interval is refined
-//    to a width of 2^-52 or less before the atoms are evaluated over it;
+//    as the rational method does; the atoms are evaluated over each root's
+//    isolating interval refined to the answer's width (toi_width), and
+//    once more refined to 2^-52 when that does not decide;
 //  - at a root of the cubic the plane atom is exactly zero: with d = 0 it is
 //    the square of the cubic itself (off_plane = (w.n)^2, and the cubic is
 //    w.n, or (p - a).n for a vertex and a face), so its sign is taken as 0

@@ -23,12 +23,11 @@ constexpr std::size_t kEventsPerTask = 8192;
 /// Up to this many sorted runs, sort_events_from merges them; more, it sorts.
 constexpr std::size_t kMostRunsToMerge = 4096;
 
-/// Copies scratch[0, count) over events[at, at + count), on all threads.
-void copy_back(const Event* scratch, std::size_t count, std::vector<Event>& events, std::size_t at) {
+/// Copies events [from, from + count) over [to, to + count), on all threads.
+void copy_events(const Event* from, std::size_t count, Event* to) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kEventsPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      std::copy(scratch + range.begin(), scratch + range.end(),
-                                events.begin() + static_cast<std::ptrdiff_t>(at + range.begin()));
+                      std::copy(from + range.begin(), from + range.end(), to + range.begin());
                     });
 }
 
@@ -54,7 +53,7 @@ void remove_events(std::vector<Event>& events, const std::vector<std::size_t>& d
                         }
                       }
                     });
-  copy_back(room, kept, events, from);
+  copy_events(room, kept, events.data() + from);
   events.resize(from + kept);
 }
 
@@ -148,7 +147,7 @@ void merge_runs(std::vector<Event>& events, const std::vector<std::size_t>& boun
       }
     }
   });
-  copy_back(room, count, events, first);
+  copy_events(room, count, events.data() + first);
 }
 
 ExactAnswer decide_exactly(const Certifier& certifier, const Scene& scene, const std::vector<Vec3>& x_t0,
@@ -307,11 +306,7 @@ void sort_events_from(std::vector<Event>& events, std::size_t first, EventScratc
 void append_events(std::vector<Event>& to, const Event* from, std::size_t count) {
   const std::size_t first = to.size();
   to.resize(first + count);
-  Event* out = to.data() + first;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kEventsPerTask),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      std::copy(from + range.begin(), from + range.end(), out + range.begin());
-                    });
+  copy_events(from, count, to.data() + first);
 }
 
 void append_intersection_events(const Scene& scene, const std::vector<Vec3>& x,
