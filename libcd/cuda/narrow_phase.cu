@@ -37,8 +37,25 @@ unsigned int blocks_for(std::size_t count) {
 constexpr std::size_t kCcdEventBytesPerCandidate = sizeof(CcdResult) + sizeof(VertexFaceCandidate);
 constexpr std::size_t kStaticEventBytesPerPair = sizeof(TrianglePair);
 
-// What the screen pass leaves for the search pass.
-constexpr unsigned char kScreenedNo = 0, kScreenedHit = 1, kUndecided = 2;
+// What the screen pass leaves for the search pass; kIsolated only between
+// the quick kernel and the refine kernel.
+constexpr unsigned char kScreenedNo = 0, kScreenedHit = 1, kUndecided = 2, kIsolated = 3;
+
+// A query whose time search the quick kernel handed over to the refine
+// kernel: the candidate and the interval that holds its earliest contact.
+struct IsolatedQuery {
+  std::uint32_t candidate;
+  ccd_detail::IsolatedTimeInterval interval;
+};
+
+// The refine kernel's blocks per multiprocessor: it strides over the
+// isolated queries, whose count only the device knows.
+constexpr int kRefineBlocksPerSm = 8;
+
+// The flag of a decided screen result.
+__device__ unsigned char screened(const CcdResult& result) {
+  return result.answer != CcdAnswer::kNo ? kScreenedHit : kScreenedNo;
+}
 
 // A vertex-face query: candidate i's eight points and the two CCD functions.
 struct VertexFaceQuery {
@@ -63,10 +80,18 @@ struct VertexFaceQuery {
     return vertex_face_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
   // For a query whose early exits decided nothing.
-  __device__ bool quick(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
+  __device__ ccd_detail::TimeSearchEnd quick(std::uint32_t i, const CcdSettings& settings,
+                                             ccd_detail::IsolatedTimeInterval* isolated, CcdResult* result) const {
     Vec3 x[8];
     points(i, x);
-    return vertex_face_quick_search(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
+    return vertex_face_quick_isolating(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, isolated, result);
+  }
+  // For a query whose quick part isolated its earliest contact's interval.
+  __device__ bool refine(std::uint32_t i, const ccd_detail::IsolatedTimeInterval& isolated, const CcdSettings& settings,
+                         CcdResult* result) const {
+    Vec3 x[8];
+    points(i, x);
+    return vertex_face_quick_refine(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], isolated, settings, result);
   }
   __device__ CcdResult full(std::uint32_t i, const CcdSettings& settings) const {
     Vec3 x[8];
@@ -103,10 +128,18 @@ struct EdgeEdgeQuery {
     return edge_edge_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
   // For a query whose early exits decided nothing.
-  __device__ bool quick(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
+  __device__ ccd_detail::TimeSearchEnd quick(std::uint32_t i, const CcdSettings& settings,
+                                             ccd_detail::IsolatedTimeInterval* isolated, CcdResult* result) const {
     Vec3 x[8];
     points(i, x);
-    return edge_edge_quick_search(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
+    return edge_edge_quick_isolating(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, isolated, result);
+  }
+  // For a query whose quick part isolated its earliest contact's interval.
+  __device__ bool refine(std::uint32_t i, const ccd_detail::IsolatedTimeInterval& isolated, const CcdSettings& settings,
+                         CcdResult* result) const {
+    Vec3 x[8];
+    points(i, x);
+    return edge_edge_quick_refine(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], isolated, settings, result);
   }
   __device__ CcdResult full(std::uint32_t i, const CcdSettings& settings) const {
     Vec3 x[8];
@@ -132,25 +165,63 @@ __global__ void __launch_bounds__(kBlockSize, 4)
   CcdResult result;
   const bool decided = query.early_exit(static_cast<std::uint32_t>(i), settings, &result);
   results[i] = result;
-  flags[i] = !decided ? kUndecided : (result.answer != CcdAnswer::kNo ? kScreenedHit : kScreenedNo);
+  flags[i] = !decided ? kUndecided : screened(result);
 }
 
 // The screen, step 2: thread k takes candidate subset[k] and, when step 1
 // left it undecided, runs the rest of the quick part on it (the decisions by
 // structure and the time search; its early exits decided nothing), updating
-// its result and flag in place.
+// its result and flag in place. A search that isolates its earliest contact
+// (a hit, nearly always) stops there and is appended to `isolated` (room for
+// `count`; *isolated_count counts them), flagged kIsolated: the halvings
+// down to the time tolerance, the longest part of a hit's search, run in
+// ccd_refine_kernel with every lane of a warp on a hit, instead of holding
+// the warp while its other lanes, ruled out in a few levels, wait.
 template <class Query>
 __global__ void __launch_bounds__(kBlockSize, 3)
     ccd_quick_kernel(Query query, const std::uint32_t* __restrict__ subset, std::size_t count, CcdSettings settings,
-                     CcdResult* __restrict__ results, unsigned char* __restrict__ flags) {
+                     CcdResult* __restrict__ results, unsigned char* __restrict__ flags,
+                     IsolatedQuery* __restrict__ isolated, unsigned int* __restrict__ isolated_count) {
   const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
   if (k >= count) return;
   const std::uint32_t i = subset[k];
   if (flags[i] != kUndecided) return;
   CcdResult result;
-  const bool decided = query.quick(i, settings, &result);
+  ccd_detail::IsolatedTimeInterval interval;
+  const ccd_detail::TimeSearchEnd end = query.quick(i, settings, &interval, &result);
+  if (end == ccd_detail::TimeSearchEnd::kIsolated) {
+    // One atomic per group of lanes that isolate together.
+    const unsigned active = __activemask();
+    const unsigned lane = threadIdx.x & 31u;
+    const int leader = __ffs(active) - 1;
+    unsigned int base = 0;
+    if (static_cast<int>(lane) == leader) base = atomicAdd(isolated_count, static_cast<unsigned int>(__popc(active)));
+    base = __shfl_sync(active, base, leader);
+    isolated[base + __popc(active & ((1u << lane) - 1u))] = IsolatedQuery{i, interval};
+    flags[i] = kIsolated;
+    return;
+  }
   results[i] = result;
-  flags[i] = !decided ? kUndecided : (result.answer != CcdAnswer::kNo ? kScreenedHit : kScreenedNo);
+  flags[i] = end == ccd_detail::TimeSearchEnd::kDecided ? screened(result) : kUndecided;
+}
+
+// The rest of the time search of the queries the quick kernel isolated,
+// striding over them: each gets the result and flag the quick part would
+// have given it.
+template <class Query>
+__global__ void __launch_bounds__(kBlockSize)
+    ccd_refine_kernel(Query query, const IsolatedQuery* __restrict__ isolated,
+                      const unsigned int* __restrict__ isolated_count, CcdSettings settings,
+                      CcdResult* __restrict__ results, unsigned char* __restrict__ flags) {
+  const std::size_t count = *isolated_count;
+  for (std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x; k < count;
+       k += static_cast<std::size_t>(gridDim.x) * blockDim.x) {
+    const IsolatedQuery q = isolated[k];
+    CcdResult result;
+    const bool decided = query.refine(q.candidate, q.interval, settings, &result);
+    results[q.candidate] = result;
+    flags[q.candidate] = decided ? screened(result) : kUndecided;
+  }
 }
 
 // For the caller's search: the candidates subset[k] the screen left
@@ -268,14 +339,20 @@ CudaNarrowPhase::CudaNarrowPhase(cudaStream_t stream)
       selected_results_(0, stream),
       selected_count_(1, stream),
       counters_(2, stream),
+      isolated_count_(1, stream),
       temp_(0, stream),
-      gathered_(0, stream) {}
+      gathered_(0, stream) {
+  int device = 0, multiprocessors = 0;
+  SNAG_CUDA_CHECK(cudaGetDevice(&device));
+  SNAG_CUDA_CHECK(cudaDeviceGetAttribute(&multiprocessors, cudaDevAttrMultiProcessorCount, device));
+  refine_block_limit_ = static_cast<unsigned int>(std::max(1, multiprocessors * kRefineBlocksPerSm));
+}
 
 std::size_t CudaNarrowPhase::held_bytes() const {
   return results_.capacity_bytes() + searched_results_.capacity_bytes() + flags_.capacity_bytes() +
          searched_flags_.capacity_bytes() + selected_.capacity_bytes() + selected_results_.capacity_bytes() +
-         selected_count_.capacity_bytes() + counters_.capacity_bytes() + temp_.capacity_bytes() +
-         gathered_.capacity_bytes();
+         selected_count_.capacity_bytes() + counters_.capacity_bytes() + isolated_count_.capacity_bytes() +
+         temp_.capacity_bytes() + gathered_.capacity_bytes();
 }
 
 void CudaNarrowPhase::release_buffers() {
@@ -368,10 +445,24 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
     // full warps.
     const std::size_t survivors = select_flagged(count);
     if (survivors > 0) {
-      ccd_quick_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(query, selected_.data(), survivors,
-                                                                          settings, results_.data(), flags_.data());
-      if (!search) {
+      // The isolated queries take the room the hits' events take later
+      // (kCcdEventBytesPerCandidate per candidate), in slices of survivors.
+      const std::size_t slice =
+          std::max<std::size_t>(1, std::min(survivors, count * kCcdEventBytesPerCandidate / sizeof(IsolatedQuery)));
+      IsolatedQuery* isolated = gathered_as<IsolatedQuery>(slice, "isolated CCD queries");
+      for (std::size_t at = 0; at < survivors; at += slice) {
+        const std::size_t n = std::min(slice, survivors - at);
+        isolated_count_.fill_zero();
+        ccd_quick_kernel<<<blocks_for(n), kBlockSize, 0, stream_>>>(query, selected_.data() + at, n, settings,
+                                                                    results_.data(), flags_.data(), isolated,
+                                                                    isolated_count_.data());
         SNAG_CUDA_CHECK_LAUNCH();
+        const unsigned int refine_blocks = std::min(blocks_for(n), refine_block_limit_);
+        ccd_refine_kernel<<<refine_blocks, kBlockSize, 0, stream_>>>(query, isolated, isolated_count_.data(), settings,
+                                                                     results_.data(), flags_.data());
+        SNAG_CUDA_CHECK_LAUNCH();
+      }
+      if (!search) {
         mark_undecided_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(selected_.data(), survivors,
                                                                                 flags_.data(), results_.data());
       }

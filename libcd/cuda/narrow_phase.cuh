@@ -216,6 +216,7 @@ class CudaNarrowPhase {
   DeviceBuffer<CcdResult> selected_results_;
   DeviceBuffer<long long> selected_count_;
   DeviceBuffer<unsigned long long> counters_;
+  DeviceBuffer<unsigned int> isolated_count_;  ///< the quick kernel's isolated queries
   DeviceBuffer<unsigned char> temp_;
   DeviceBuffer<unsigned char> gathered_;  ///< stage_selected's device staging, any item type
   // Pinned host copies of a round's results, reused from call to call.
@@ -224,6 +225,7 @@ class CudaNarrowPhase {
   PinnedBuffer<unsigned char> host_gathered_;
   NarrowPhaseTimings timings_;
   std::size_t chunk_size_ = kDefaultChunkSize;
+  unsigned int refine_block_limit_ = 1;  ///< the refine kernel's blocks: kRefineBlocksPerSm per multiprocessor
 };
 
 /// Resizes `buffer` to `count`; when the device cannot hold it, throws

@@ -91,10 +91,28 @@ SNAG_HD_INLINE bool keeps_sign(const Interval b[4]) {
   return positive || negative;
 }
 
-/// The search. Contact provides `inside_over(ta, tb)` (+1: every inside
-/// condition holds strictly over [ta, tb]; -1: one is strictly violated;
-/// 0: undecided) and `certify_crossing(ta, tb)`. Returns false when it gives
-/// up; else *result is kNo or kYes with the enclosure of the earliest contact.
+/// Where an isolating search (time_search_isolating) handed its interval
+/// over: the node it was about to halve, on which g has strictly opposite
+/// signs at the ends and every inside condition holds (`inside` is true),
+/// and the count of intervals examined up to and including it.
+struct IsolatedTimeInterval {
+  TimeInterval node;
+  int examined;
+};
+
+/// How time_search_from ended.
+enum class TimeSearchEnd : uint8_t {
+  kDecided,   ///< *result is kNo or kYes with the enclosure of the earliest contact
+  kGaveUp,    ///< only the (t, u, v) search can decide
+  kIsolated,  ///< *isolated holds the interval to refine (time_search_isolated)
+};
+
+/// The search from `node` (the whole step, or an isolated interval when
+/// `subtree`), having examined `examined - 1` intervals before it; `last` is
+/// g's coefficient at the upper end of the node. Contact provides
+/// `inside_over(ta, tb)` (+1: every inside condition holds strictly over
+/// [ta, tb]; -1: one is strictly violated; 0: undecided) and
+/// `certify_crossing(ta, tb)`.
 ///
 /// The halves of an interval over which inside_over gave +1 are not asked
 /// again: they inherit +1, which is what inside_over would give them, since
@@ -105,16 +123,27 @@ SNAG_HD_INLINE bool keeps_sign(const Interval b[4]) {
 /// (round-to-nearest and next_up/next_down are non-decreasing, and a product's
 /// bounds are the least and greatest of its endpoint products), so their lower
 /// bounds only grow on a sub-interval.
+///
+/// With `isolated`, the search stops where it would halve an interval with
+/// inside +1 and strictly opposite signs of g at its ends, and hands it over.
+/// From there the search never leaves that interval: no descendant is ruled
+/// out by the inside conditions (they inherit +1), and its descendants
+/// cannot all keep one sign, because consecutive ones share the enclosure of
+/// g at their common end (the midpoint coefficient) and the first and last
+/// have the interval's own ends, of opposite signs. So the search ends inside
+/// it with a contact or by giving up, at the same interval and with the same
+/// result whether it goes on at once or later from the handed-over node
+/// (time_search_isolated): the refinement of every hit, which takes most of
+/// the steps, can run apart from the first levels. A subtree search that
+/// nevertheless ran out of intervals gives up rather than answer kNo.
 template <class Contact>
-SNAG_HD bool time_search(const Contact& contact, const CoplanarityCubic& cubic, double time_tolerance,
-                         CcdResult* result) {
+SNAG_HD TimeSearchEnd time_search_from(const Contact& contact, TimeInterval node, Interval last, int examined,
+                                       bool subtree, double time_tolerance, IsolatedTimeInterval* isolated,
+                                       CcdResult* result) {
   PendingTimeInterval stack[kMaxTimeLevel + 1];
   int pending = 0;
-  const Interval last = enclose(cubic.term[3], 3);
-  TimeInterval node{
-      0, 0, false, {enclose(cubic.term[0], 3), enclose(cubic.term[1], 1), enclose(cubic.term[2], 1), last}};
-  for (int examined = 1;; ++examined) {
-    if (examined > kMaxTimeIntervals) return false;
+  for (;; ++examined) {
+    if (examined > kMaxTimeIntervals) return TimeSearchEnd::kGaveUp;
     bool excluded = keeps_sign(node.b);
     if (!excluded) {
       const double ta = lower(node.num, node.level), tb = upper(node.num, node.level);
@@ -123,19 +152,22 @@ SNAG_HD bool time_search(const Contact& contact, const CoplanarityCubic& cubic, 
       if (!excluded) {
         const double width = tb - ta;
         if (width <= time_tolerance || node.level >= kMaxTimeLevel) {
-          const bool sign_change = (certainly_positive(node.b[0]) && certainly_negative(node.b[3])) ||
-                                   (certainly_negative(node.b[0]) && certainly_positive(node.b[3]));
-          if (inside > 0 && sign_change) {
+          if (inside > 0 && opposite_signs(node.b[0], node.b[3])) {
             *result = make_result(CcdAnswer::kYes, ta, tb);
-            return true;
+            return TimeSearchEnd::kDecided;
           }
           const double wide_a = ta - width > 0 ? ta - width : 0;
           const double wide_b = tb + width < 1 ? tb + width : 1;
           if (contact.certify_crossing(wide_a, wide_b)) {
             *result = make_result(CcdAnswer::kYes, ta, wide_b);
-            return true;
+            return TimeSearchEnd::kDecided;
           }
-          return false;
+          return TimeSearchEnd::kGaveUp;
+        }
+        if (isolated != nullptr && inside > 0 && opposite_signs(node.b[0], node.b[3])) {
+          node.inside = true;
+          *isolated = IsolatedTimeInterval{node, examined};
+          return TimeSearchEnd::kIsolated;
         }
         // De Casteljau at the midpoint: the earlier half goes on now.
         const Interval* b = node.b;
@@ -149,13 +181,49 @@ SNAG_HD bool time_search(const Contact& contact, const CoplanarityCubic& cubic, 
       }
     }
     if (pending == 0) {
+      if (subtree) return TimeSearchEnd::kGaveUp;
       *result = make_result(CcdAnswer::kNo, 1, 1);
-      return true;
+      return TimeSearchEnd::kDecided;
     }
     const PendingTimeInterval& next = stack[--pending];
     node = TimeInterval{next.num, next.level, next.inside,
                         {next.b[0], next.b[1], next.b[2], pending > 0 ? stack[pending - 1].b[0] : last}};
   }
+}
+
+/// The whole step's interval of `cubic`: its Bernstein coefficients of 3 g.
+SNAG_HD_INLINE TimeInterval whole_step(const CoplanarityCubic& cubic) {
+  const Interval b[4] = {enclose(cubic.term[0], 3), enclose(cubic.term[1], 1), enclose(cubic.term[2], 1),
+                         enclose(cubic.term[3], 3)};
+  return TimeInterval{0, 0, false, {b[0], b[1], b[2], b[3]}};
+}
+
+/// The search over the whole step. Returns false when it gives up; else
+/// *result is kNo or kYes with the enclosure of the earliest contact.
+template <class Contact>
+SNAG_HD bool time_search(const Contact& contact, const CoplanarityCubic& cubic, double time_tolerance,
+                         CcdResult* result) {
+  const TimeInterval node = whole_step(cubic);
+  return time_search_from(contact, node, node.b[3], 1, false, time_tolerance, nullptr, result) ==
+         TimeSearchEnd::kDecided;
+}
+
+/// time_search, stopping where it isolates the earliest contact's interval
+/// (see time_search_from): kIsolated with *isolated set, or how it ended.
+template <class Contact>
+SNAG_HD TimeSearchEnd time_search_isolating(const Contact& contact, const CoplanarityCubic& cubic,
+                                            double time_tolerance, IsolatedTimeInterval* isolated, CcdResult* result) {
+  const TimeInterval node = whole_step(cubic);
+  return time_search_from(contact, node, node.b[3], 1, false, time_tolerance, isolated, result);
+}
+
+/// The rest of a search that time_search_isolating handed over: true with
+/// *result as time_search would have set it, false where it gives up.
+template <class Contact>
+SNAG_HD bool time_search_isolated(const Contact& contact, const IsolatedTimeInterval& isolated, double time_tolerance,
+                                  CcdResult* result) {
+  return time_search_from(contact, isolated.node, isolated.node.b[3], isolated.examined, true, time_tolerance, nullptr,
+                          result) == TimeSearchEnd::kDecided;
 }
 
 }  // namespace ccd_detail

@@ -162,18 +162,46 @@ SNAG_HD_INLINE bool edge_edge_structure(const ccd_detail::EdgeEdgeContact& conta
 
 /// The decisions by structure and, at thickness 0, the time search, for a
 /// query the early exits left undecided (edge_edge_early_exit returned
+/// false): kDecided with *result set (the answer edge_edge_ccd gives) when
+/// they decide it, kGaveUp when only the (t, u, v) search can. With
+/// `isolated`, kIsolated where the time search isolates the earliest
+/// contact's interval (ccd_detail::time_search_from); edge_edge_quick_refine
+/// finishes it. Never throws.
+SNAG_HD_INLINE ccd_detail::TimeSearchEnd edge_edge_quick_isolating(
+    const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0, const Vec3& eb1_t0, const Vec3& ea0_t1,
+    const Vec3& ea1_t1, const Vec3& eb0_t1, const Vec3& eb1_t1, const CcdSettings& settings,
+    ccd_detail::IsolatedTimeInterval* isolated, CcdResult* result) {
+  const ccd_detail::EdgeEdgeContact contact{{ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1}};
+  if (edge_edge_structure(contact, settings, result)) return ccd_detail::TimeSearchEnd::kDecided;
+  if (settings.thickness != 0) return ccd_detail::TimeSearchEnd::kGaveUp;
+  const Vec3 p[2] = {eb0_t0 - ea0_t0, eb0_t1 - ea0_t1}, b[2] = {ea1_t0 - ea0_t0, ea1_t1 - ea0_t1},
+             c[2] = {eb1_t0 - eb0_t0, eb1_t1 - eb0_t1};
+  return ccd_detail::time_search_isolating(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance,
+                                           isolated, result);
+}
+
+/// The decisions by structure and, at thickness 0, the time search, for a
+/// query the early exits left undecided (edge_edge_early_exit returned
 /// false): true with *result set (the answer edge_edge_ccd gives) when they
 /// decide it, false when only the (t, u, v) search can. Never throws.
 SNAG_HD_INLINE bool edge_edge_quick_search(const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0,
                                            const Vec3& eb1_t0, const Vec3& ea0_t1, const Vec3& ea1_t1,
                                            const Vec3& eb0_t1, const Vec3& eb1_t1, const CcdSettings& settings,
                                            CcdResult* result) {
+  return edge_edge_quick_isolating(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings, nullptr,
+                                   result) == ccd_detail::TimeSearchEnd::kDecided;
+}
+
+/// The rest of edge_edge_quick_isolating's search from the interval it
+/// isolated: true with *result set as edge_edge_quick_search sets it, false
+/// where only the (t, u, v) search can decide. Never throws.
+SNAG_HD_INLINE bool edge_edge_quick_refine(const Vec3& ea0_t0, const Vec3& ea1_t0, const Vec3& eb0_t0,
+                                           const Vec3& eb1_t0, const Vec3& ea0_t1, const Vec3& ea1_t1,
+                                           const Vec3& eb0_t1, const Vec3& eb1_t1,
+                                           const ccd_detail::IsolatedTimeInterval& isolated,
+                                           const CcdSettings& settings, CcdResult* result) {
   const ccd_detail::EdgeEdgeContact contact{{ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1}};
-  if (edge_edge_structure(contact, settings, result)) return true;
-  if (settings.thickness != 0) return false;
-  const Vec3 p[2] = {eb0_t0 - ea0_t0, eb0_t1 - ea0_t1}, b[2] = {ea1_t0 - ea0_t0, ea1_t1 - ea0_t1},
-             c[2] = {eb1_t0 - eb0_t0, eb1_t1 - eb0_t1};
-  return ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, result);
+  return ccd_detail::time_search_isolated(contact, isolated, settings.time_tolerance, result);
 }
 
 /// The early exits, then edge_edge_quick_search: true with *result set (the

@@ -163,16 +163,43 @@ SNAG_HD_INLINE bool vertex_face_structure(const ccd_detail::VertexFaceContact& c
 
 /// The decisions by structure and, at thickness 0, the time search, for a
 /// query the early exits left undecided (vertex_face_early_exit returned
+/// false): kDecided with *result set (the answer vertex_face_ccd gives) when
+/// they decide it, kGaveUp when only the (t, u, v) search can. With
+/// `isolated`, kIsolated where the time search isolates the earliest
+/// contact's interval (ccd_detail::time_search_from); vertex_face_quick_refine
+/// finishes it. Never throws.
+SNAG_HD_INLINE ccd_detail::TimeSearchEnd vertex_face_quick_isolating(
+    const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0, const Vec3& p_t1, const Vec3& a_t1,
+    const Vec3& b_t1, const Vec3& c_t1, const CcdSettings& settings, ccd_detail::IsolatedTimeInterval* isolated,
+    CcdResult* result) {
+  const ccd_detail::VertexFaceContact contact{{p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1}};
+  if (vertex_face_structure(contact, settings, result)) return ccd_detail::TimeSearchEnd::kDecided;
+  if (settings.thickness != 0) return ccd_detail::TimeSearchEnd::kGaveUp;
+  const Vec3 p[2] = {p_t0 - a_t0, p_t1 - a_t1}, b[2] = {b_t0 - a_t0, b_t1 - a_t1}, c[2] = {c_t0 - a_t0, c_t1 - a_t1};
+  return ccd_detail::time_search_isolating(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance,
+                                           isolated, result);
+}
+
+/// The decisions by structure and, at thickness 0, the time search, for a
+/// query the early exits left undecided (vertex_face_early_exit returned
 /// false): true with *result set (the answer vertex_face_ccd gives) when they
 /// decide it, false when only the (t, u, v) search can. Never throws.
 SNAG_HD_INLINE bool vertex_face_quick_search(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
-                                             const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1,
-                                             const Vec3& c_t1, const CcdSettings& settings, CcdResult* result) {
+                                             const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                                             const CcdSettings& settings, CcdResult* result) {
+  return vertex_face_quick_isolating(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings, nullptr, result) ==
+         ccd_detail::TimeSearchEnd::kDecided;
+}
+
+/// The rest of vertex_face_quick_isolating's search from the interval it
+/// isolated: true with *result set as vertex_face_quick_search sets it, false
+/// where only the (t, u, v) search can decide. Never throws.
+SNAG_HD_INLINE bool vertex_face_quick_refine(const Vec3& p_t0, const Vec3& a_t0, const Vec3& b_t0, const Vec3& c_t0,
+                                             const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
+                                             const ccd_detail::IsolatedTimeInterval& isolated,
+                                             const CcdSettings& settings, CcdResult* result) {
   const ccd_detail::VertexFaceContact contact{{p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1}};
-  if (vertex_face_structure(contact, settings, result)) return true;
-  if (settings.thickness != 0) return false;
-  const Vec3 p[2] = {p_t0 - a_t0, p_t1 - a_t1}, b[2] = {b_t0 - a_t0, b_t1 - a_t1}, c[2] = {c_t0 - a_t0, c_t1 - a_t1};
-  return ccd_detail::time_search(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance, result);
+  return ccd_detail::time_search_isolated(contact, isolated, settings.time_tolerance, result);
 }
 
 /// The early exits, then vertex_face_quick_search: true with *result set (the

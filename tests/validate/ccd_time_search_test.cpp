@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
@@ -136,6 +137,83 @@ void check_inside_inherited(bool is_edge_edge) {
 
 TEST(CcdTimeSearch, InsideOverHoldsOnBothHalvesWhereItHoldsOnVertexFaceQueries) { check_inside_inherited(false); }
 TEST(CcdTimeSearch, InsideOverHoldsOnBothHalvesWhereItHoldsOnEdgeEdgeQueries) { check_inside_inherited(true); }
+
+// The quick part in two calls (isolating, then refining the interval it
+// hands over, as the GPU's quick and refine kernels run it) ends as the quick
+// part in one call, with the same result bit for bit, on random queries and
+// on those whose earlier crossing beside the feature the search must skip.
+// The handed-over interval is wider than the tolerance, has inside +1 and
+// opposite signs of g at its ends.
+bool same_result(const CcdResult& p, const CcdResult& q) {
+  return p.answer == q.answer && std::memcmp(&p.toi_lo, &q.toi_lo, sizeof p.toi_lo) == 0 &&
+         std::memcmp(&p.toi_hi, &q.toi_hi, sizeof p.toi_hi) == 0;
+}
+
+/// The quick part of the query in one call (`whole`) and in two; returns
+/// whether it was handed over.
+bool quick_both_ways(const Points& x, bool is_edge_edge, const CcdSettings& settings, bool* whole_decided,
+                     CcdResult* whole, bool* split_decided, CcdResult* split) {
+  ccd_detail::IsolatedTimeInterval isolated{};
+  ccd_detail::TimeSearchEnd end;
+  if (is_edge_edge) {
+    *whole_decided = edge_edge_quick_search(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, whole);
+    end = edge_edge_quick_isolating(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, &isolated, split);
+  } else {
+    *whole_decided = vertex_face_quick_search(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, whole);
+    end = vertex_face_quick_isolating(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, &isolated, split);
+  }
+  if (end != ccd_detail::TimeSearchEnd::kIsolated) {
+    *split_decided = end == ccd_detail::TimeSearchEnd::kDecided;
+    return false;
+  }
+  const ccd_detail::TimeInterval& node = isolated.node;
+  EXPECT_TRUE(node.inside);
+  EXPECT_TRUE(opposite_signs(node.b[0], node.b[3]));
+  EXPECT_GT(ccd_detail::upper(node.num, node.level) - ccd_detail::lower(node.num, node.level),
+            settings.time_tolerance);
+  EXPECT_GE(isolated.examined, 1);
+  *split_decided = is_edge_edge ? edge_edge_quick_refine(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], isolated,
+                                                         settings, split)
+                                : vertex_face_quick_refine(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], isolated,
+                                                           settings, split);
+  return true;
+}
+
+void check_isolated_then_refined(bool is_edge_edge) {
+  std::mt19937_64 rng(is_edge_edge ? 52 : 51);
+  CcdSettings settings;
+  int handed_over = 0, hits = 0;
+  const int count = 3000;
+  for (int i = 0; i < count; ++i) {
+    const Points x = random_near_contact(rng, is_edge_edge);
+    bool whole_decided = false, split_decided = false;
+    CcdResult whole, split;
+    handed_over += quick_both_ways(x, is_edge_edge, settings, &whole_decided, &whole, &split_decided, &split);
+    ASSERT_EQ(split_decided, whole_decided) << "query " << i;
+    if (!whole_decided) continue;
+    hits += whole.answer == CcdAnswer::kYes;
+    ASSERT_TRUE(same_result(split, whole)) << "query " << i;
+  }
+  // Nearly every crossing is handed over, and nothing else is.
+  EXPECT_GE(handed_over, hits * 9 / 10);
+  EXPECT_LE(handed_over, count - (count - hits) * 9 / 10);
+  EXPECT_GT(hits, count / 10);
+}
+
+TEST(CcdTimeSearch, IsolatedThenRefinedEqualsOneSearchOnVertexFaceQueries) { check_isolated_then_refined(false); }
+TEST(CcdTimeSearch, IsolatedThenRefinedEqualsOneSearchOnEdgeEdgeQueries) { check_isolated_then_refined(true); }
+
+TEST(CcdTimeSearch, IsolatedThenRefinedSkipsTheEarlierCrossingBesideTheTriangle) {
+  const Vec3 a{-1, 0, 0}, b{1, 0, 0}, c_t0{0, 1, 1}, c_t1{0, 1, -1};
+  const Points x{Vec3{0, -0.5, -0.08}, a, b, c_t0, Vec3{0, 0.5, -0.08}, a, b, c_t1};
+  bool whole_decided = false, split_decided = false;
+  CcdResult whole, split;
+  EXPECT_TRUE(quick_both_ways(x, false, CcdSettings{}, &whole_decided, &whole, &split_decided, &split));
+  ASSERT_TRUE(whole_decided);
+  ASSERT_TRUE(split_decided);
+  EXPECT_EQ(whole.answer, CcdAnswer::kYes);
+  EXPECT_TRUE(same_result(split, whole));
+}
 
 // A triangle turning about its edge a-b (the x axis), its plane z = (1 - 2t) y,
 // while a vertex moves along y at z = -0.08: it meets the plane at t = 0.3
