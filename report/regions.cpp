@@ -15,13 +15,14 @@ namespace snag::report {
 
 namespace {
 
-struct Group {
-  std::vector<std::size_t> events;
-};
-
 // Below this many events or faces a loop runs on the calling thread: most
 // groups are small, and a task costs more than their work.
 constexpr std::size_t kEventsPerTask = 2048;
+// The events of a frame are grouped in blocks of this many, each block's
+// runs of one group listed on one thread.
+constexpr std::size_t kEventsPerBlock = 16384;
+// Words of the face marks (64 faces each) listed per task.
+constexpr std::size_t kWordsPerTask = 256;
 
 void grow(Bounds& bounds, const Vec3& p) {
   bounds.lo = {std::min(bounds.lo.x, p.x), std::min(bounds.lo.y, p.y), std::min(bounds.lo.z, p.z)};
@@ -33,6 +34,22 @@ Bounds empty_bounds() {
   return {{inf, inf, inf}, {-inf, -inf, -inf}};
 }
 
+// Lowers `value` to `candidate` if that is smaller.
+void lower_to(std::atomic<std::size_t>& value, std::size_t candidate) {
+  std::size_t seen = value.load(std::memory_order_relaxed);
+  while (candidate < seen && !value.compare_exchange_weak(seen, candidate, std::memory_order_relaxed)) {
+  }
+}
+
+// A region's events added up one after the other, in event order (the
+// centroid's sum is rounded as it always was).
+struct RegionSums {
+  std::size_t events = 0;
+  Vec3 position_sum{0, 0, 0};
+  Bounds bounds = empty_bounds();
+  double toi = std::numeric_limits<double>::infinity();
+};
+
 }  // namespace
 
 std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Event& e) {
@@ -42,10 +59,12 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
 
 RegionBuilder::RegionBuilder(const Scene& scene)
     : scene_(scene),
-      face_stamp_(new std::atomic<std::uint32_t>[scene.triangle_count()]()),
+      face_marks_(new std::atomic<std::uint64_t>[(scene.triangle_count() + 63) / 64]()),
       vertex_face_(new std::atomic<Index>[scene.vertex_count()]()),
       face_sets_(scene.triangle_count()),
+      first_of_root_(new std::atomic<std::size_t>[scene.triangle_count()]()),
       region_of_root_(scene.triangle_count(), kNone) {
+  touched_.reserve(scene.triangle_count());  // listing the marked faces then allocates nothing
   const auto& triangles = scene.triangles();
   vertex_face_start_.assign(scene.vertex_count() + 1, 0);
   for (const Triangle& t : triangles)
@@ -68,19 +87,19 @@ RegionBuilder::RegionBuilder(const Scene& scene)
   }
 }
 
-void RegionBuilder::event_faces(const Event& e, std::vector<Index>& faces) const {
-  faces.clear();
+template <class Visit>
+void RegionBuilder::for_each_event_face(const Event& e, Visit visit) const {
   auto around_vertex = [&](Index v) {
-    for (Index k = vertex_face_start_[v]; k < vertex_face_start_[v + 1]; ++k) faces.push_back(vertex_faces_[k]);
+    for (Index k = vertex_face_start_[v]; k < vertex_face_start_[v + 1]; ++k) visit(vertex_faces_[k]);
   };
-  auto on_edge = [&](Index e) {
-    faces.insert(faces.end(), edge_faces_.begin() + edge_face_start_[e], edge_faces_.begin() + edge_face_start_[e + 1]);
+  auto on_edge = [&](Index id) {
+    for (Index k = edge_face_start_[id]; k < edge_face_start_[id + 1]; ++k) visit(edge_faces_[k]);
   };
   if (e.kind == EventKind::kIntersection) {
-    faces.push_back(e.a);
-    faces.push_back(e.b);
+    visit(e.a);
+    visit(e.b);
   } else if (e.type == ContactType::kVertexFace) {
-    faces.push_back(e.b);
+    visit(e.b);
     around_vertex(e.a);
   } else {
     on_edge(e.a);
@@ -107,40 +126,61 @@ Index RegionBuilder::second_face(const Event& e) const {
   return edge_faces_[edge_face_start_[e.b]];
 }
 
-void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group) {
-  if (++stamp_ == 0) {  // after 2^32 groups: start the stamps again
-    for (std::size_t f = 0; f < scene_.triangle_count(); ++f) face_stamp_[f].store(0, std::memory_order_relaxed);
-    stamp_ = 1;
-  }
+void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group,
+                               std::size_t object_a, std::size_t object_b) {
   const auto& triangles = scene_.triangles();
   const tbb::blocked_range<std::size_t> all_events(0, group.size(), kEventsPerTask);
   // One face of each element of each event, kept so that the passes after
-  // this one read 8 bytes per event instead of the event.
+  // this one read 8 bytes per event instead of the event; every face of
+  // every event marked (a word of 64 faces is read before it is written, so
+  // that a face marked already costs no atomic write).
   event_first_face_.resize(group.size());
   event_second_face_.resize(group.size());
-  // Each face is claimed by the one thread that stamps it first, which makes
-  // it a set of its own and lists it; every vertex keeps one of its faces.
-  tbb::enumerable_thread_specific<std::vector<Index>> claimed, faces;
   tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    std::vector<Index>& mine = claimed.local();
-    std::vector<Index>& event = faces.local();
     for (std::size_t k = range.begin(); k < range.end(); ++k) {
       const Event& e = events[group[k]];
       event_first_face_[k] = first_face(e);
       event_second_face_[k] = second_face(e);
-      event_faces(e, event);
-      for (Index f : event) {
-        std::atomic<std::uint32_t>& stamp = face_stamp_[f];
-        if (stamp.load(std::memory_order_relaxed) == stamp_ || stamp.exchange(stamp_) == stamp_) continue;
-        face_sets_.reset(f);
-        for (Index v : triangles[f]) vertex_face_[v].store(f, std::memory_order_relaxed);
-        mine.push_back(f);
-      }
+      for_each_event_face(e, [&](Index f) {
+        std::atomic<std::uint64_t>& word = face_marks_[f / 64];
+        const std::uint64_t bit = std::uint64_t{1} << (f % 64);
+        if ((word.load(std::memory_order_relaxed) & bit) == 0) word.fetch_or(bit, std::memory_order_relaxed);
+      });
     }
   });
-  touched_.clear();
-  for (const std::vector<Index>& mine : claimed) touched_.insert(touched_.end(), mine.begin(), mine.end());
-  tbb::parallel_sort(touched_.begin(), touched_.end());
+  // The marked faces, listed in ascending order and unmarked. An event's
+  // faces lie on the group's two objects, so only their words are read.
+  // Each listed face becomes a set of its own, and each of its vertices
+  // keeps one of the group's faces around it.
+  const std::size_t a_begin = scene_.triangle_offset(object_a) / 64;
+  const std::size_t a_end = (scene_.triangle_offset(object_a + 1) + 63) / 64;
+  const std::size_t b_begin = std::max<std::size_t>(a_end, scene_.triangle_offset(object_b) / 64);
+  const std::size_t b_end = std::max<std::size_t>(b_begin, (scene_.triangle_offset(object_b + 1) + 63) / 64);
+  const std::size_t words = (a_end - a_begin) + (b_end - b_begin);
+  auto word_at = [&](std::size_t w) { return w < a_end - a_begin ? a_begin + w : b_begin + (w - (a_end - a_begin)); };
+  const std::size_t tasks = (words + kWordsPerTask - 1) / kWordsPerTask;
+  marked_before_.assign(tasks + 1, 0);
+  tbb::parallel_for(std::size_t{0}, tasks, [&](std::size_t t) {
+    std::size_t marked = 0;
+    for (std::size_t w = t * kWordsPerTask; w < std::min(words, (t + 1) * kWordsPerTask); ++w)
+      marked += static_cast<std::size_t>(__builtin_popcountll(face_marks_[word_at(w)].load(std::memory_order_relaxed)));
+    marked_before_[t + 1] = marked;
+  });
+  std::partial_sum(marked_before_.begin(), marked_before_.end(), marked_before_.begin());
+  touched_.resize(marked_before_[tasks]);  // within the room reserved for every face
+  tbb::parallel_for(std::size_t{0}, tasks, [&](std::size_t t) {
+    std::size_t at = marked_before_[t];
+    for (std::size_t w = t * kWordsPerTask; w < std::min(words, (t + 1) * kWordsPerTask); ++w) {
+      std::atomic<std::uint64_t>& word = face_marks_[word_at(w)];
+      for (std::uint64_t bits = word.load(std::memory_order_relaxed); bits != 0; bits &= bits - 1) {
+        const Index f = static_cast<Index>(64 * word_at(w) + static_cast<std::size_t>(__builtin_ctzll(bits)));
+        touched_[at++] = f;
+        face_sets_.reset(f);
+        for (Index v : triangles[f]) vertex_face_[v].store(f, std::memory_order_relaxed);
+      }
+      word.store(0, std::memory_order_relaxed);
+    }
+  });
   // The faces of one event are one region; so are faces that share a vertex.
   // The faces around a vertex, or on an edge, share that vertex: of an
   // event's faces, only one of each element's needs joining here.
@@ -157,96 +197,148 @@ void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vect
                     });
 }
 
+void RegionBuilder::group_events(const std::vector<Event>& events, const std::vector<char>& in_region,
+                                 std::map<GroupKey, std::vector<std::size_t>>& groups) const {
+  // Each block lists its runs of events of one group (the events of a group
+  // come in long runs); the runs then take their places in their groups'
+  // lists in event order, and are written there on all threads.
+  struct Run {
+    GroupKey key;
+    std::size_t begin, end;
+    std::vector<std::size_t>* list;
+    std::size_t at;
+  };
+  const std::size_t blocks = (events.size() + kEventsPerBlock - 1) / kEventsPerBlock;
+  std::vector<std::vector<Run>> block_runs(blocks);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
+    std::vector<Run>& runs = block_runs[block];
+    const std::size_t end = std::min(events.size(), (block + 1) * kEventsPerBlock);
+    for (std::size_t i = block * kEventsPerBlock; i < end; ++i) {
+      if (!in_region[i]) continue;
+      const auto [a, b] = event_objects(scene_, events[i]);
+      const GroupKey key{static_cast<int>(events[i].kind), a, b};
+      if (runs.empty() || runs.back().end != i || runs.back().key != key) runs.push_back({key, i, i, nullptr, 0});
+      runs.back().end = i + 1;
+    }
+  });
+  for (std::vector<Run>& runs : block_runs) {
+    for (Run& run : runs) {
+      run.list = &groups[run.key];
+      run.at = run.list->size();
+      run.list->resize(run.at + (run.end - run.begin));
+    }
+  }
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
+    for (const Run& run : block_runs[block])
+      std::iota(run.list->begin() + static_cast<std::ptrdiff_t>(run.at),
+                run.list->begin() + static_cast<std::ptrdiff_t>(run.at + (run.end - run.begin)), run.begin);
+  });
+}
+
+void RegionBuilder::add_regions(const std::vector<Event>& events, const std::vector<std::size_t>& group,
+                                const GroupKey& key, const std::vector<Vec3>& x, std::size_t frame,
+                                std::vector<RegionRecord>& regions, std::vector<std::size_t>& region_of,
+                                std::vector<std::size_t>& first_event) {
+  const EventKind kind = static_cast<EventKind>(std::get<0>(key));
+  const std::size_t object_a = std::get<1>(key), object_b = std::get<2>(key);
+  const tbb::blocked_range<std::size_t> all_events(0, group.size(), kEventsPerTask);
+  const tbb::blocked_range<std::size_t> all_faces(0, touched_.size(), kEventsPerTask);
+  // Roots after every join: the same for any number of threads. Each set's
+  // first event is the smallest index of its events in the group.
+  event_root_.resize(group.size());
+  touched_root_.resize(touched_.size());
+  tbb::parallel_for(all_faces, [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      touched_root_[k] = face_sets_.find(touched_[k]);
+      first_of_root_[touched_[k]].store(kNone, std::memory_order_relaxed);
+    }
+  });
+  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      event_root_[k] = face_sets_.find(event_first_face_[k]);
+      lower_to(first_of_root_[event_root_[k]], k);
+    }
+  });
+  // One region per set (every set holds an event's faces), in the order of
+  // its first event.
+  std::vector<std::pair<std::size_t, Index>> sets;  // first event, root
+  for (std::size_t k = 0; k < touched_.size(); ++k) {
+    if (touched_root_[k] == touched_[k])
+      sets.emplace_back(first_of_root_[touched_[k]].load(std::memory_order_relaxed), touched_[k]);
+  }
+  std::sort(sets.begin(), sets.end());
+  const std::size_t first_region = regions.size();
+  for (const auto& [first, root] : sets) {
+    region_of_root_[root] = regions.size();
+    RegionRecord region;
+    region.kind = kind;
+    region.object_a = object_a;
+    region.object_b = object_b;
+    region.frame = frame;
+    region.bounds = empty_bounds();
+    region.toi = std::numeric_limits<double>::infinity();
+    regions.push_back(std::move(region));
+    first_event.push_back(group[first]);
+  }
+  // Each event's region, position and time of impact, gathered on all
+  // threads; then each region's events added up in event order on this one,
+  // from the gathered 40 bytes an event instead of the event.
+  event_region_.resize(group.size());
+  event_place_.resize(group.size());
+  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      const Event& e = events[group[k]];
+      event_region_[k] = region_of_root_[event_root_[k]];
+      region_of[group[k]] = event_region_[k];
+      event_place_[k] = {e.position, static_cast<double>(e.frame) + e.toi_lo};
+    }
+  });
+  std::vector<RegionSums> sums(sets.size());
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    RegionSums& sum = sums[event_region_[k] - first_region];
+    const EventPlace& place = event_place_[k];
+    ++sum.events;
+    sum.position_sum = sum.position_sum + place.position;
+    if (kind == EventKind::kCollision) {
+      grow(sum.bounds, place.position);
+      sum.toi = std::min(sum.toi, place.toi);
+    }
+  }
+  for (std::size_t r = 0; r < sums.size(); ++r) {
+    RegionRecord& region = regions[first_region + r];
+    region.events = sums[r].events;
+    region.centroid = sums[r].position_sum;
+    region.bounds = sums[r].bounds;
+    region.toi = sums[r].toi;
+  }
+  // Faces in ascending order, so that each region's lists come sorted.
+  const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
+  const Index end_a = scene_.triangle_offset(object_a + 1);
+  for (std::size_t k = 0; k < touched_.size(); ++k) {
+    RegionRecord& region = regions[region_of_root_[touched_root_[k]]];
+    const Index f = touched_[k];
+    if (f >= base_a && f < end_a) {
+      region.faces_a.push_back(f - base_a);
+    } else {
+      region.faces_b.push_back(f - base_b);
+    }
+    if (kind == EventKind::kIntersection) {
+      for (Index v : scene_.triangles()[f]) grow(region.bounds, x[v]);
+    }
+  }
+}
+
 void RegionBuilder::build(const std::vector<Event>& events, const std::vector<char>& in_region,
                           const std::vector<Vec3>& x, std::size_t frame, std::vector<RegionRecord>& regions,
                           std::vector<std::size_t>& region_of) {
   region_of.assign(events.size(), kNone);
-  std::map<GroupKey, Group> groups;
-  // Each event's objects on all threads; then the events of one group, which
-  // come in long runs, with one map look-up per run.
-  event_key_.resize(events.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, events.size(), kEventsPerTask),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
-                        if (!in_region[i]) continue;
-                        const auto [a, b] = event_objects(scene_, events[i]);
-                        event_key_[i] = {static_cast<int>(events[i].kind), a, b};
-                      }
-                    });
-  GroupKey last_key{-1, 0, 0};
-  Group* last_group = nullptr;
-  for (std::size_t i = 0; i < events.size(); ++i) {
-    if (!in_region[i]) continue;
-    const GroupKey& key = event_key_[i];
-    if (key != last_key) {
-      last_key = key;
-      last_group = &groups[key];
-    }
-    last_group->events.push_back(i);
-  }
+  std::map<GroupKey, std::vector<std::size_t>> groups;
+  group_events(events, in_region, groups);
   const std::size_t first_region = regions.size();
   std::vector<std::size_t> first_event;  // of each new region
   for (const auto& [key, group] : groups) {
-    const EventKind kind = static_cast<EventKind>(std::get<0>(key));
-    const std::size_t object_a = std::get<1>(key), object_b = std::get<2>(key);
-    join_faces(events, group.events);
-    // Roots after every join: the same for any number of threads.
-    event_root_.resize(group.events.size());
-    touched_root_.resize(touched_.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group.events.size(), kEventsPerTask),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t k = range.begin(); k < range.end(); ++k)
-                          event_root_[k] = face_sets_.find(event_first_face_[k]);
-                      });
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touched_.size(), kEventsPerTask),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t k = range.begin(); k < range.end(); ++k) {
-                          touched_root_[k] = face_sets_.find(touched_[k]);
-                          region_of_root_[touched_[k]] = kNone;
-                        }
-                      });
-    // One region per set, in the order of its first event; its events added
-    // up in event order (the centroid's sum is rounded as it always was).
-    for (std::size_t k = 0; k < group.events.size(); ++k) {
-      const std::size_t i = group.events[k];
-      std::size_t& region_index = region_of_root_[event_root_[k]];
-      if (region_index == kNone) {
-        region_index = regions.size();
-        RegionRecord region;
-        region.kind = kind;
-        region.object_a = object_a;
-        region.object_b = object_b;
-        region.frame = frame;
-        region.bounds = empty_bounds();
-        region.toi = std::numeric_limits<double>::infinity();
-        regions.push_back(std::move(region));
-        first_event.push_back(i);
-      }
-      RegionRecord& region = regions[region_index];
-      const Event& e = events[i];
-      region_of[i] = region_index;
-      ++region.events;
-      region.centroid = region.centroid + e.position;
-      if (kind == EventKind::kCollision) {
-        grow(region.bounds, e.position);
-        region.toi = std::min(region.toi, static_cast<double>(e.frame) + e.toi_lo);
-      }
-    }
-    // Faces in ascending order, so that each region's lists come sorted.
-    const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
-    const Index end_a = scene_.triangle_offset(object_a + 1);
-    for (std::size_t k = 0; k < touched_.size(); ++k) {
-      RegionRecord& region = regions[region_of_root_[touched_root_[k]]];
-      const Index f = touched_[k];
-      if (f >= base_a && f < end_a) {
-        region.faces_a.push_back(f - base_a);
-      } else {
-        region.faces_b.push_back(f - base_b);
-      }
-      if (kind == EventKind::kIntersection) {
-        for (Index v : scene_.triangles()[f]) grow(region.bounds, x[v]);
-      }
-    }
+    join_faces(events, group, std::get<1>(key), std::get<2>(key));
+    add_regions(events, group, key, x, frame, regions, region_of, first_event);
   }
   // Order the frame's regions by their first event, so that ids follow the event order.
   const std::size_t count = regions.size() - first_region;

@@ -32,13 +32,18 @@ namespace snag::report {
 std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Event& event);
 
 /// Builds the regions of one frame. Holds scene-sized scratch arrays so that
-/// each frame costs time in the number of its events, not of the scene.
+/// each frame costs time in the number of its events, not of the scene (and
+/// a bit per face of the two objects of each pair and kind it finds events
+/// of, where those faces are marked).
 ///
-/// The faces of each pair and kind are joined on all threads at once (a
-/// union-find whose roots are the smallest face of each region, so that the
-/// regions do not depend on the threads); each region's events are then
-/// added up in event order and its faces listed in face order, one thread
-/// per group, so that the result is the same for any number of threads.
+/// The events are grouped by pair and kind on all threads (in blocks, whose
+/// runs of one group then take their places in event order). The faces of
+/// each group are marked and joined on all threads at once (a union-find
+/// whose roots are the smallest face of each region, so that the regions do
+/// not depend on the threads); each set's first event is found on all
+/// threads too. Each region's events are then added up in event order and
+/// its faces listed in face order on one thread, so that the result is the
+/// same for any number of threads.
 class RegionBuilder {
  public:
   explicit RegionBuilder(const Scene& scene);
@@ -53,26 +58,43 @@ class RegionBuilder {
  private:
   using GroupKey = std::tuple<int, std::size_t, std::size_t>;  // kind, object a <= object b
 
-  void event_faces(const Event& event, std::vector<Index>& faces) const;
+  /// Calls visit(f) for every face of event_faces(e) (see the file comment).
+  template <class Visit>
+  void for_each_event_face(const Event& event, Visit visit) const;
   Index first_face(const Event& event) const;
   Index second_face(const Event& event) const;
-  /// Stamps the faces of the group's events, lists them in touched_ (ascending)
-  /// and joins those that an event names together or that share a vertex.
-  void join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group);
+  /// Lists the faces of the group's events in touched_ (ascending) and joins
+  /// those that an event names together or that share a vertex.
+  void join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group, std::size_t object_a,
+                  std::size_t object_b);
+  /// The events of each group (pair and kind) with in_region set, in event order.
+  void group_events(const std::vector<Event>& events, const std::vector<char>& in_region,
+                    std::map<GroupKey, std::vector<std::size_t>>& groups) const;
+  /// Adds the group's regions to `regions` in the order of their first event
+  /// and sets region_of for its events.
+  void add_regions(const std::vector<Event>& events, const std::vector<std::size_t>& group, const GroupKey& key,
+                   const std::vector<Vec3>& x, std::size_t frame, std::vector<RegionRecord>& regions,
+                   std::vector<std::size_t>& region_of, std::vector<std::size_t>& first_event);
 
   const Scene& scene_;
   std::vector<Index> vertex_face_start_, vertex_faces_;  // CSR: faces around each vertex
   std::vector<Index> edge_face_start_, edge_faces_;      // CSR: faces on each edge
-  // Scratch, stamped per group so that it is never cleared.
-  std::unique_ptr<std::atomic<std::uint32_t>[]> face_stamp_;
-  std::unique_ptr<std::atomic<Index>[]> vertex_face_;  // a face of the group around each vertex
+  // Scratch, scene-sized, left as it was found after each group.
+  std::unique_ptr<std::atomic<std::uint64_t>[]> face_marks_;  // a bit per face: the group's faces
+  std::unique_ptr<std::atomic<Index>[]> vertex_face_;         // a face of the group around each vertex
   ConcurrentUnionFind<Index> face_sets_;
-  std::vector<std::size_t> region_of_root_;  // by face: set at the group's roots
-  std::uint32_t stamp_ = 0;
-  std::vector<Index> touched_, touched_root_;  // the group's faces, ascending, and their roots
-  std::vector<GroupKey> event_key_;                           // the group of each event of the frame
+  std::unique_ptr<std::atomic<std::size_t>[]> first_of_root_;  // by face: a set's first event in the group
+  std::vector<std::size_t> region_of_root_;                    // by face: set at the group's roots
+  std::vector<std::size_t> marked_before_;                     // faces marked in the words before each block
+  std::vector<Index> touched_, touched_root_;                  // the group's faces, ascending, and their roots
   std::vector<Index> event_first_face_, event_second_face_;  // a face of each element of the group's events
   std::vector<Index> event_root_;                             // the root of each of the group's events
+  std::vector<std::size_t> event_region_;                     // the region of each of the group's events
+  struct EventPlace {
+    Vec3 position;
+    double toi;  // collisions: frame + toi_lo
+  };
+  std::vector<EventPlace> event_place_;  // of each of the group's events
 };
 
 /// Gives regions their track ids frame after frame and says when tracks end.

@@ -15,15 +15,4 @@ Scene::Scene(std::vector<Object> objects) : objects_(std::move(objects)) {
   }
 }
 
-static std::size_t range_of(const std::vector<Index>& offsets, Index id) {
-  // offsets is ascending with offsets[0] = 0; the object is the last offset <= id
-  // among those that start a non-empty range.
-  auto it = std::upper_bound(offsets.begin(), offsets.end(), id);
-  return static_cast<std::size_t>(it - offsets.begin()) - 1;
-}
-
-std::size_t Scene::object_of_vertex(Index v) const { return range_of(vertex_offset_, v); }
-std::size_t Scene::object_of_triangle(Index f) const { return range_of(triangle_offset_, f); }
-std::size_t Scene::object_of_edge(Index e) const { return range_of(edge_offset_, e); }
-
 }  // namespace snag

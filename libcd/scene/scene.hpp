@@ -3,6 +3,7 @@
 // (object, local id) for reports.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -31,12 +32,21 @@ class Scene {
   Index triangle_offset(std::size_t o) const { return triangle_offset_[o]; }
   Index edge_offset(std::size_t o) const { return edge_offset_[o]; }
 
-  /// The object that holds a global vertex / triangle / edge id.
-  std::size_t object_of_vertex(Index v) const;
-  std::size_t object_of_triangle(Index f) const;
-  std::size_t object_of_edge(Index e) const;
+  /// The object that holds a global vertex / triangle / edge id. Inline:
+  /// the report looks up the objects of every event.
+  std::size_t object_of_vertex(Index v) const { return range_of(vertex_offset_, v); }
+  std::size_t object_of_triangle(Index f) const { return range_of(triangle_offset_, f); }
+  std::size_t object_of_edge(Index e) const { return range_of(edge_offset_, e); }
 
  private:
+  /// offsets ascends from offsets[0] = 0: the object is the last offset <= id
+  /// among those that start a non-empty range.
+  static std::size_t range_of(const std::vector<Index>& offsets, Index id) {
+    if (offsets.size() == 2) return 0;  // one object
+    const auto it = std::upper_bound(offsets.begin(), offsets.end(), id);
+    return static_cast<std::size_t>(it - offsets.begin()) - 1;
+  }
+
   std::vector<Object> objects_;
   std::vector<Triangle> triangles_;
   std::vector<Edge> edges_;

@@ -90,7 +90,7 @@ TEST(RegionBuilder, MatchesThePlainBuilderOnRandomEventsForAnyThreadCount) {
   std::mt19937 random(14);
   std::uniform_real_distribution<double> unit(-1, 1);
   for (Vec3& p : x) p = {unit(random), unit(random), unit(random)};
-  for (std::size_t count : {1u, 40u, 900u, 6000u}) {
+  for (std::size_t count : {1u, 40u, 900u, 6000u, 50000u}) {
     const std::vector<Event> events = random_events(scene, count, random);
     std::vector<char> in_region(events.size());
     for (char& in : in_region) in = random() % 8 != 0;  // some allowed ones left out
