@@ -13,8 +13,13 @@ constexpr std::size_t kLargestTracks = 5;
 
 ReportSink::ReportSink(const Scene& scene, const Header& header, const RuleSet& rules, ReportWriter* writer,
                        Redecide redecide)
-    : scene_(scene), header_(header), rules_(rules), writer_(writer), redecide_(std::move(redecide)), tracks_(scene) {
-  for (std::size_t lane = 0; lane < kLanes; ++lane) lanes_.push_back(std::make_unique<Lane>(scene, rules));
+    : scene_(scene),
+      header_(header),
+      rules_(rules),
+      writer_(writer),
+      redecide_(std::move(redecide)),
+      digester_(scene, rules),
+      tracks_(scene) {
   trailer_.allow_counts.assign(rules_.rules().allow.size(), 0);
   if (writer_) writer_->write_header(header_);
 }
@@ -69,18 +74,10 @@ EventRecord ReportSink::event_record(const Event& e) const {
   return r;
 }
 
-void ReportSink::prepare(ScannedFrame& frame) {
-  Lane& lane = *lanes_[frame.lane % kLanes];
-  if (redecide_ && frame.x_next) redecide_(*frame.x, *frame.x_next, *frame.events);
-  lane.digester.digest(frame, lane.digest);
-  lane.prepared = true;
-}
-
 void ReportSink::frame(ScannedFrame& frame) {
-  Lane& lane = *lanes_[frame.lane % kLanes];
-  if (!lane.prepared) prepare(frame);
-  lane.prepared = false;
-  join(lane.digest);
+  if (redecide_ && frame.x_next) redecide_(*frame.x, *frame.x_next, *frame.events);
+  digester_.digest(frame, digest_);
+  join(digest_);
 }
 
 void ReportSink::join(FrameDigest& digest) {

@@ -8,7 +8,6 @@
 #include <cstddef>
 #include <functional>
 #include <map>
-#include <memory>
 #include <tuple>
 #include <vector>
 
@@ -31,13 +30,6 @@ class ReportSink : public ScanSink {
   ReportSink(const Scene& scene, const Header& header, const RuleSet& rules, ReportWriter* writer,
              Redecide redecide = {});
 
-  /// Two frames are digested at once (each with its own digester) while
-  /// the one before them is joined.
-  std::size_t lanes() const override { return kLanes; }
-  /// Re-decides the frame's collisions (when given a Redecide) and digests it.
-  void prepare(ScannedFrame& frame) override;
-  /// Joins the frame's digest to the run and writes its records; digests it
-  /// first when prepare() has not.
   void frame(ScannedFrame& frame) override;
   /// Joins a frame digested elsewhere (with this sink's scene and rules) as
   /// frame() joins its own digest: the frames of a run, in order, whether
@@ -63,19 +55,13 @@ class ReportSink : public ScanSink {
   const RuleSet& rules_;
   ReportWriter* writer_;
   Redecide redecide_;
-  static constexpr std::size_t kLanes = 2;
-  struct Lane {
-    Lane(const Scene& scene, const RuleSet& rules) : digester(scene, rules) {}
-    FrameDigester digester;
-    FrameDigest digest;
-    bool prepared = false;  // digest holds the lane's frame, not yet joined
-  };
-  std::vector<std::unique_ptr<Lane>> lanes_;
+  FrameDigester digester_;
   TrackBuilder tracks_;
   std::size_t next_region_ = 0;
   Trailer trailer_;
   std::map<PairKey, PairSummary> pairs_;
   // Scratch reused frame after frame.
+  FrameDigest digest_;
   std::vector<TrackRecord> ended_;
 };
 

@@ -8,10 +8,7 @@
 // /dev/null. Beside the whole sink, the same frames' regions (RegionBuilder,
 // every event in a region: the sink with no rules) and tracks (TrackBuilder)
 // are timed alone; the rest of the sink is the rules, counts, event records
-// and writing. Then the same frames go through the sink as snag-scan hands
-// them (SinkThread: two frames held, each digested on its own lane while the
-// one before it is joined), timed from the first frame handed to the last
-// one done, against the frame() calls one after the other above.
+// and writing.
 //
 //   snag-bench-report-sink T0 T1 [FRAMES] [RUNS] [MAX_EVENTS] [THREADS]
 //
@@ -19,10 +16,8 @@
 // listed), and every core (THREADS caps the threads of the sink's work).
 //
 // Prints one JSON object: events per frame, and per-frame milliseconds
-// (median over runs of each run's mean) of the sink, wall and CPU, in series
-// and through its threads (wall), and of its regions and tracks, wall and CPU.
-#include <tbb/global_control.h>
-
+// (median over runs of each run's mean) of the sink, wall and CPU, and of
+// its regions and tracks, wall and CPU.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -34,10 +29,11 @@
 #include <string>
 #include <vector>
 
+#include <tbb/global_control.h>
+
 #include "io/open_cache.hpp"
 #include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/scan.hpp"
-#include "libcd/pipeline/sink_thread.hpp"
 #include "report/regions.hpp"
 #include "report/report_sink.hpp"
 #include "report/report_writer.hpp"
@@ -115,22 +111,7 @@ int run(int argc, char** argv) {
   if (threads > 0)
     thread_cap = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 
-  // The frames as the scan hands them, each with events of its own.
-  auto scanned_frame = [&](std::size_t position, std::vector<Event>& events) {
-    const Recorded& r = recorded.frames[position % 2];
-    events = r.events;
-    for (Event& e : events) e.frame = position;
-    snag::ScannedFrame frame;
-    frame.position = position;
-    frame.time = static_cast<double>(position);
-    frame.summary.frame = position;
-    frame.events = &events;
-    frame.x = &r.x;
-    frame.x_next = position + 1 < frames ? &recorded.frames[(position + 1) % 2].x : nullptr;
-    return frame;
-  };
-
-  std::vector<double> wall_ms, cpu_ms, threaded_ms, regions_ms, tracks_ms, regions_cpu_ms, tracks_cpu_ms;
+  std::vector<double> wall_ms, cpu_ms, regions_ms, tracks_ms, regions_cpu_ms, tracks_cpu_ms;
   std::size_t events = 0;
   for (std::size_t run = 0; run < runs; ++run) {
     std::ofstream null("/dev/null");
@@ -139,8 +120,17 @@ int run(int argc, char** argv) {
     double wall = 0, cpu = 0;
     std::vector<Event> working;
     for (std::size_t position = 0; position < frames; ++position) {
-      snag::ScannedFrame frame = scanned_frame(position, working);
+      const Recorded& r = recorded.frames[position % 2];
+      working = r.events;
+      for (Event& e : working) e.frame = position;
       events += working.size();
+      snag::ScannedFrame frame;
+      frame.position = position;
+      frame.time = static_cast<double>(position);
+      frame.summary.frame = position;
+      frame.events = &working;
+      frame.x = &r.x;
+      frame.x_next = position + 1 < frames ? &recorded.frames[(position + 1) % 2].x : nullptr;
       const auto wall_start = std::chrono::steady_clock::now();
       const double cpu_start = process_cpu_seconds();
       sink.frame(frame);
@@ -150,25 +140,6 @@ int run(int argc, char** argv) {
     sink.finish("{}", "{}");
     wall_ms.push_back(1e3 * wall / static_cast<double>(frames));
     cpu_ms.push_back(1e3 * cpu / static_cast<double>(frames));
-
-    {
-      std::ofstream threaded_null("/dev/null");
-      snag::report::ReportWriter threaded_writer(threaded_null);
-      snag::report::ReportSink threaded(scene, header, rules, &threaded_writer);
-      std::vector<std::vector<Event>> held(frames);
-      std::vector<snag::ScannedFrame> handed;
-      for (std::size_t position = 0; position < frames; ++position)
-        handed.push_back(scanned_frame(position, held[position]));
-      const auto start = std::chrono::steady_clock::now();
-      {
-        snag::SinkThread sinking(threaded, 2);  // as snag-scan holds them
-        for (const snag::ScannedFrame& frame : handed) sinking.hand(frame);
-        sinking.drain();
-      }
-      threaded_ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
-                            static_cast<double>(frames));
-      threaded.finish("{}", "{}");
-    }
 
     snag::report::RegionBuilder regions(scene);
     snag::report::TrackBuilder tracks(scene);
@@ -197,14 +168,12 @@ int run(int argc, char** argv) {
     regions_cpu_ms.push_back(1e3 * region_cpu / static_cast<double>(frames));
     tracks_cpu_ms.push_back(1e3 * track_cpu / static_cast<double>(frames));
   }
-  std::printf(
-      "{\"frames\":%zu,\"runs\":%zu,\"max_events\":%zu,\"threads\":%zu,\"events_per_frame\":%.0f,"
-      "\"sink_wall_ms_per_frame\":%.2f,\"sink_cpu_ms_per_frame\":%.2f,\"sink_threaded_wall_ms_per_frame\":%.2f,"
-      "\"regions_ms_per_frame\":%.2f,"
-      "\"regions_cpu_ms_per_frame\":%.2f,\"tracks_ms_per_frame\":%.2f,\"tracks_cpu_ms_per_frame\":%.2f}\n",
-      frames, runs, max_events, threads, static_cast<double>(events) / static_cast<double>(frames * runs),
-      median(wall_ms), median(cpu_ms), median(threaded_ms), median(regions_ms), median(regions_cpu_ms),
-      median(tracks_ms), median(tracks_cpu_ms));
+  std::printf("{\"frames\":%zu,\"runs\":%zu,\"max_events\":%zu,\"threads\":%zu,\"events_per_frame\":%.0f,"
+              "\"sink_wall_ms_per_frame\":%.2f,\"sink_cpu_ms_per_frame\":%.2f,\"regions_ms_per_frame\":%.2f,"
+              "\"regions_cpu_ms_per_frame\":%.2f,\"tracks_ms_per_frame\":%.2f,\"tracks_cpu_ms_per_frame\":%.2f}\n",
+              frames, runs, max_events, threads, static_cast<double>(events) / static_cast<double>(frames * runs),
+              median(wall_ms), median(cpu_ms), median(regions_ms), median(regions_cpu_ms), median(tracks_ms),
+              median(tracks_cpu_ms));
   return 0;
 }
 

@@ -9,8 +9,8 @@ once (reading the topology, binding the back end, starting the device). The
 same difference is taken for every stage the report's trailer times
 (timing.*): reading, the broad phases, the CCD narrow phase (hits, the host's
 search of the undecided ones, events), certification, static detection, and
-the time the scan waited for the report ("report" is the time the report
-worked on at least one frame, on threads of their own beside the scan); "other" is the rest of the total
+the time the scan waited for the report ("report" is the report's own time,
+on a thread of its own beside the scan); "other" is the rest of the total
 (reading and the report, on threads of their own, are not taken from it)
 (per-step host work in the scan loop, ordering the frame's events, uploads the
 scan waited for). "back end" is the sum of the back end's stages: what a

@@ -43,26 +43,15 @@ struct ScannedFrame {
   std::vector<Event>* events = nullptr;
   const std::vector<Vec3>* x = nullptr;       ///< the frame's positions
   const std::vector<Vec3>* x_next = nullptr;  ///< the next frame's, when there is a step; else null
-  std::size_t lane = 0;                       ///< the sink's lane that prepares it (ScanSink::prepare; set by the scan)
 };
 
 /// Receives each frame as soon as it is done, in frame order, one call at a
 /// time, on a thread of its own: the sink of frame f runs while frames f + 1
 /// and f + 2 are scanned. The frame's buffers stay valid until the call returns.
 /// Nothing is kept between calls: what the sink keeps is what the scan holds.
-///
-/// A sink may split off the work on a frame that depends on that frame alone
-/// (prepare), so that it runs for several frames at once: with lanes() > 0,
-/// each frame first goes through prepare() on its lane (ScannedFrame::lane),
-/// at the same time as prepare() on other lanes and frame() of an earlier
-/// frame; a lane's frames come one after the other, each after frame() of
-/// the one before it on that lane.
 class ScanSink {
  public:
   virtual ~ScanSink() = default;
-  /// How many frames prepare() may work on at once; 0: it is never called.
-  virtual std::size_t lanes() const { return 0; }
-  virtual void prepare(ScannedFrame& /*frame*/) {}
   virtual void frame(ScannedFrame& frame) = 0;
 };
 
@@ -71,7 +60,7 @@ struct ScanTotals {
   std::size_t frames = 0;
   PipelineStats stats;        ///< summed over all frames and steps
   double read_seconds = 0;    ///< time spent reading frames (overlapping detection)
-  double sink_seconds = 0;    ///< time during which the sink (the report) worked on a frame, on its threads
+  double sink_seconds = 0;       ///< time spent in the sink (writing the report), on its thread
   double sink_wait_seconds = 0;  ///< of it, the time the scan waited for the sink
   double total_seconds = 0;
 };

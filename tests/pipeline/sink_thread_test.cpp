@@ -2,22 +2,18 @@
 // scan waits once `capacity` frames are queued or in the sink, so that it is
 // never more than that many frames ahead of the report; what the sink throws
 // comes out of the scan's side, and no frame after it reaches the sink.
-#include "libcd/pipeline/sink_thread.hpp"
-
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
-#include <cstdio>
 #include <mutex>
 #include <stdexcept>
-#include <string>
 #include <thread>
 #include <vector>
 
 #include "libcd/pipeline/scan.hpp"
+#include "libcd/pipeline/sink_thread.hpp"
 
 namespace snag {
 namespace {
@@ -95,88 +91,6 @@ TEST(SinkThread, ASinkErrorComesOutAndNoLaterFrameReachesTheSink) {
   }
   EXPECT_TRUE(thrown);
   EXPECT_EQ(sink.seen, (std::vector<std::size_t>{0, 1}));
-}
-
-/// Two lanes: records which lane prepared each frame and in what order the
-/// calls came; with `gate`, prepare() of frames 0 and 1 waits (up to a
-/// second) until both are in prepare() at once, which only lanes working at
-/// once allow; prepare() of `failing` throws.
-class LanedSink final : public ScanSink {
- public:
-  LanedSink(bool gate, std::size_t failing) : gate_(gate), failing_(failing) {}
-  std::size_t lanes() const override { return 2; }
-  void prepare(ScannedFrame& frame) override {
-    std::unique_lock<std::mutex> lock(mutex_);
-    calls.push_back("prepare " + std::to_string(frame.position) + " on " + std::to_string(frame.lane));
-    most_at_once = std::max(most_at_once, ++preparing_);
-    changed_.notify_all();
-    if (gate_ && frame.position < 2) changed_.wait_for(lock, std::chrono::seconds(1), [&] { return most_at_once > 1; });
-    --preparing_;
-    if (frame.position == failing_) throw std::runtime_error("prepare failed");
-  }
-  void frame(ScannedFrame& frame) override {
-    std::lock_guard<std::mutex> lock(mutex_);
-    calls.push_back("frame " + std::to_string(frame.position));
-  }
-  std::vector<std::string> calls;  // under mutex_ until the threads are done
-  std::size_t most_at_once = 0;    // the most prepare() calls at one time
-
- private:
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  bool gate_;
-  std::size_t failing_;
-  std::size_t preparing_ = 0;
-};
-
-TEST(SinkThread, LanesPrepareFramesAtOnceAndFramesComeInOrderAfterTheirPrepare) {
-  // Capacity 4 holds more frames than lanes: a lane's third frame waits for
-  // frame() of its first.
-  for (const std::size_t capacity : {2u, 4u}) {
-    SCOPED_TRACE("capacity " + std::to_string(capacity));
-    LanedSink sink(true, 99);
-    {
-      SinkThread thread(sink, capacity);
-      for (std::size_t f = 0; f < 20; ++f) thread.hand(at(f));
-      thread.drain();
-    }
-    EXPECT_EQ(sink.most_at_once, 2u) << "frames 0 and 1 were not prepared at once";
-    std::size_t next_frame = 0;
-    std::vector<bool> prepared(20, false);
-    for (const std::string& call : sink.calls) {
-      std::size_t position = 0, lane = 0;
-      if (std::sscanf(call.c_str(), "prepare %zu on %zu", &position, &lane) == 2) {
-        EXPECT_EQ(lane, position % 2) << call;
-        EXPECT_LT(position, next_frame + 2) << "a lane's next frame came before frame() of its last one";
-        prepared[position] = true;
-      } else {
-        ASSERT_EQ(std::sscanf(call.c_str(), "frame %zu", &position), 1) << call;
-        EXPECT_EQ(position, next_frame++);
-        EXPECT_TRUE(prepared[position]) << "frame " << position << " before its prepare";
-      }
-    }
-    EXPECT_EQ(next_frame, 20u);
-  }
-}
-
-TEST(SinkThread, APrepareErrorComesOutAndNoLaterFrameReachesTheSink) {
-  LanedSink sink(false, 3);
-  bool thrown = false;
-  {
-    SinkThread thread(sink, 2);
-    try {
-      for (std::size_t f = 0; f < 50; ++f) thread.hand(at(f));
-      thread.drain();
-    } catch (const std::runtime_error& error) {
-      thrown = true;
-      EXPECT_STREQ(error.what(), "prepare failed");
-    }
-  }  // the threads end here, before the calls are read
-  EXPECT_TRUE(thrown);
-  for (const std::string& call : sink.calls) {
-    std::size_t position = 0;
-    if (std::sscanf(call.c_str(), "frame %zu", &position) == 1) EXPECT_LT(position, 3u) << call;
-  }
 }
 
 /// Frames of one triangle; reads cost nothing.
