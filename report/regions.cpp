@@ -5,7 +5,6 @@
 #include <numeric>
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -107,7 +106,7 @@ void RegionBuilder::for_each_event_face(const Event& e, Visit visit) const {
   }
 }
 
-// The first of event_faces(e): every edge of a scene lies on a face.
+// The first face for_each_event_face visits: every edge of a scene lies on a face.
 Index RegionBuilder::first_face(const Event& e) const {
   if (e.kind == EventKind::kIntersection) return e.a;
   if (e.type == ContactType::kVertexFace) return e.b;
@@ -115,8 +114,9 @@ Index RegionBuilder::first_face(const Event& e) const {
   return on_a < edge_face_start_[e.a + 1] ? edge_faces_[on_a] : edge_faces_[edge_face_start_[e.b]];
 }
 
-// A face of event_faces(e) from its second element (the first face around
-// the vertex of a vertex-face pair, the first face on edge b).
+// A face for_each_event_face visits of the event's second element (the
+// first face around the vertex of a vertex-face pair, the first face on
+// edge b).
 Index RegionBuilder::second_face(const Event& e) const {
   if (e.kind == EventKind::kIntersection) return e.b;
   if (e.type == ContactType::kVertexFace) {  // a vertex on no face (a loose one) joins nothing

@@ -32,9 +32,9 @@ namespace snag::report {
 std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Event& event);
 
 /// Builds the regions of one frame. Holds scene-sized scratch arrays so that
-/// each frame costs time in the number of its events, not of the scene (and
-/// a bit per face of the two objects of each pair and kind it finds events
-/// of, where those faces are marked).
+/// each frame costs time in the number of its events, not of the scene,
+/// but for reading the face marks (a bit per face) of the two objects of
+/// each group.
 ///
 /// The events are grouped by pair and kind on all threads (in blocks, whose
 /// runs of one group then take their places in event order). The faces of
@@ -58,7 +58,7 @@ class RegionBuilder {
  private:
   using GroupKey = std::tuple<int, std::size_t, std::size_t>;  // kind, object a <= object b
 
-  /// Calls visit(f) for every face of event_faces(e) (see the file comment).
+  /// Calls visit(f) for every face of the event (see the file comment).
   template <class Visit>
   void for_each_event_face(const Event& event, Visit visit) const;
   Index first_face(const Event& event) const;
