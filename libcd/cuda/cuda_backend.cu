@@ -11,7 +11,10 @@
 //  - broad phase: the GPU broad phase (libcd/cuda/cuda_broad_phase.cuh) on the
 //    positions in the slots; its candidates stay on the device.
 //  - narrow phase: libcd/cuda/narrow_phase.cuh (same functions as the CPU),
-//    reading the broad phase's candidates in place. The GPU runs the screen
+//    reading the broad phase's candidates in place, the vertex-face and the
+//    edge-edge queries one after the other, each with its own buffers, so
+//    that the host copies both's events (set_defer_events) only once the
+//    device has the next work: the next frame's static detection. The GPU runs the screen
 //    (early exits and the search over time) and builds the hits' events
 //    (event_fields.hpp, the CPU's formulas); only the events come back to the
 //    host. The few candidates the screen leaves undecided (their events say
@@ -29,7 +32,8 @@
 //    narrow phase) and the static one never run on the device at the same
 //    time, so each gets what the budget leaves beside the other's buffers and
 //    the topology and frames; the broad phase turns that into chunks of
-//    candidates (cuda_broad_phase.cuh), the narrow phase into rounds. The
+//    candidates (cuda_broad_phase.cuh), the narrow phases into rounds (the
+//    CCD's two share the narrow phase's room). The
 //    hits of several chunks are put back in candidate order, so the events
 //    are those of one chunk. When the other detection holds more than half
 //    of what the topology and frames leave, it gives its buffers back first;
@@ -38,11 +42,12 @@
 //  - overlap: the scan asks for frame f's intersections, then for the
 //    collisions of f -> f + 1, then for frame f + 1's intersections. Once
 //    intersections have been asked for, collisions() starts the static
-//    detection of its x_t1 on the device (a thread of its own, its own stream,
-//    broad phase and narrow phase) as soon as its own device work is done, so
-//    that it runs while the host searches, certifies and builds the step's
-//    events; intersections() of that frame then only builds its events. A
-//    slot is never overwritten while that work reads it.
+//    detection of its x_t1 on the device (a thread kept for it, its own
+//    stream, broad phase and narrow phase) as soon as its own device work is
+//    done, before its events are copied on the host, so that it runs while
+//    the host copies, searches, certifies and orders the step's events;
+//    intersections() of that frame then only builds its events. A slot is
+//    never overwritten while that work reads it.
 #include "libcd/cuda/cuda_backend.hpp"
 
 #include <tbb/parallel_for.h>
@@ -51,9 +56,14 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <condition_variable>
 #include <cstring>
+#include <functional>
 #include <future>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <utility>
 
 #include "libcd/core/error.hpp"
 #include "libcd/cuda/cuda_broad_phase.cuh"
@@ -97,6 +107,56 @@ class Stream {
   cudaStream_t stream_ = nullptr;
 };
 
+/// A thread that runs one task at a time, kept for the back end's life: a
+/// thread started for every frame, with its first CUDA call, took nearly a
+/// millisecond before its first kernel (cloth_ball on an H100).
+class Worker {
+ public:
+  Worker() : thread_([this] { loop(); }) {}
+  ~Worker() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+  Worker(const Worker&) = delete;
+  Worker& operator=(const Worker&) = delete;
+
+  /// Runs `task` on the thread; the future holds what it threw. The future
+  /// of the previous task must have been waited for.
+  std::future<void> run(std::function<void()> task) {
+    std::packaged_task<void()> packaged(std::move(task));
+    std::future<void> done = packaged.get_future();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      task_ = std::move(packaged);
+    }
+    wake_.notify_one();
+    return done;
+  }
+
+ private:
+  void loop() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [this] { return stop_ || task_.valid(); });
+      if (!task_.valid()) return;  // stopped
+      std::packaged_task<void()> task = std::move(task_);
+      lock.unlock();
+      task();
+      lock.lock();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::packaged_task<void()> task_;  ///< valid while a task waits for the thread
+  bool stop_ = false;
+  std::thread thread_;  ///< last: it starts once the members above are
+};
+
 /// One frame of positions on the device, with a pinned copy of what it holds.
 struct FrameSlot {
   explicit FrameSlot(cudaStream_t copy_stream) : device(0, copy_stream) {}
@@ -105,6 +165,27 @@ struct FrameSlot {
   CudaEvent uploaded;
   bool valid = false;
   unsigned long long last_use = 0;
+};
+
+/// One detection's device parts: its broad phase and its narrow phases (the
+/// CCD's vertex-face and edge-edge, or the static one alone), which share
+/// the narrow phase's room in rounds of narrow_bytes_per_candidate.
+struct Detection {
+  CudaBroadPhase* broad = nullptr;
+  std::array<CudaNarrowPhase*, 2> narrow{};
+  std::size_t narrow_bytes_per_candidate = 0;
+
+  std::size_t held_bytes() const {
+    std::size_t bytes = broad->held_bytes();
+    for (const CudaNarrowPhase* part : narrow)
+      if (part != nullptr) bytes += part->held_bytes();
+    return bytes;
+  }
+  void release_buffers() const {
+    broad->release_buffers();
+    for (CudaNarrowPhase* part : narrow)
+      if (part != nullptr) part->release_buffers();
+  }
 };
 
 /// One frame's static detection on the device: its intersection events
@@ -124,8 +205,12 @@ class CudaBackend final : public Backend {
         triangles_(0, compute_.get()),
         edges_(0, compute_.get()),
         narrow_(compute_.get()),
+        edge_narrow_(compute_.get()),
         static_narrow_(static_stream_.get()),
-        slots_{FrameSlot(copy_.get()), FrameSlot(copy_.get())} {}
+        slots_{FrameSlot(copy_.get()), FrameSlot(copy_.get())} {
+    narrow_.set_defer_events(true);
+    edge_narrow_.set_defer_events(true);
+  }
 
   ~CudaBackend() override {
     // Buffers are freed in stream order; let the work using them finish first.
@@ -209,29 +294,45 @@ class CudaBackend final : public Backend {
     const std::size_t first = events.size();
     std::size_t vf_count = 0, ee_count = 0;
     double narrow_seconds = 0;
+    // Each chunk's events are copied on the host when the next chunk comes
+    // (vertex-face, then edge-edge), the last chunk's after the device work.
+    auto flush_events = [&] {
+      narrow_.flush_events();
+      edge_narrow_.flush_events();
+    };
     auto visit_chunk = [&](const DeviceCandidates& chunk) {
       const auto narrow_start = std::chrono::steady_clock::now();
+      flush_events();
       narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
                                  CcdPasses::kScreenOnly, events);
-      narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
-                               CcdPasses::kScreenOnly, events);
+      edge_narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
+                                    CcdPasses::kScreenOnly, events);
       vf_count += chunk.vf_count;
       ee_count += chunk.ee_count;
       narrow_seconds += seconds_since(narrow_start);
     };
-    detect_within_budget(*ccd_broad_, narrow_, CudaNarrowPhase::kCcdBytesPerCandidate, *static_broad_, static_narrow_,
-                         [&] {
-                           events.resize(first);
-                           narrow_.reset_timings();
-                           vf_count = ee_count = 0;
-                           narrow_seconds = 0;
-                           ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk);
-                         });
+    detect_within_budget(ccd_detection(), static_detection(), [&] {
+      events.resize(first);
+      narrow_.drop_events();
+      edge_narrow_.drop_events();
+      narrow_.reset_timings();
+      edge_narrow_.reset_timings();
+      vf_count = ee_count = 0;
+      narrow_seconds = 0;
+      ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk);
+    });
     stats_.ccd_broad = ccd_broad_->stats();
-    const NarrowPhaseTimings& device = narrow_.timings();
-    stats_.narrow.seconds_ccd_device = 1e-3 * (device.screen_ms + device.search_ms + device.compact_ms);
+    double device_ms = 0;
+    for (const CudaNarrowPhase* part : {&narrow_, &edge_narrow_}) {
+      const NarrowPhaseTimings& device = part->timings();
+      device_ms += device.screen_ms + device.search_ms + device.compact_ms;
+    }
+    stats_.narrow.seconds_ccd_device = 1e-3 * device_ms;
     // The device is free: the next frame's intersections, while the host works.
     if (static_seen_ && !static_ahead_.valid()) start_static_ahead(slot_t1);
+    const auto flush_start = std::chrono::steady_clock::now();
+    flush_events();
+    narrow_seconds += seconds_since(flush_start);
     // What the screen left undecided: the whole test and certification, on
     // the CPU. Each chunk's events are in candidate order, vertex-face before
     // edge-edge; several chunks are put in event order.
@@ -304,15 +405,14 @@ class CudaBackend final : public Backend {
       found.tests += chunk.pair_count;
       found.narrow_seconds += seconds_since(start);
     };
-    detect_within_budget(*static_broad_, static_narrow_, CudaNarrowPhase::kStaticBytesPerPair, *ccd_broad_, narrow_,
-                         [&] {
-                           found.events.clear();
-                           found.counts = TrianglePairCounts{};
-                           found.tests = 0;
-                           found.narrow_seconds = 0;
-                           static_narrow_.reset_timings();
-                           static_broad_->detect_static_on_device(d_x, static_stream_.get(), visit_chunk);
-                         });
+    detect_within_budget(static_detection(), ccd_detection(), [&] {
+      found.events.clear();
+      found.counts = TrianglePairCounts{};
+      found.tests = 0;
+      found.narrow_seconds = 0;
+      static_narrow_.reset_timings();
+      static_broad_->detect_static_on_device(d_x, static_stream_.get(), visit_chunk);
+    });
     found.broad = static_broad_->stats();
     found.device_seconds = 1e-3 * (static_narrow_.timings().static_ms + static_narrow_.timings().compact_ms);
   }
@@ -323,31 +423,38 @@ class CudaBackend final : public Backend {
            slots_[1].device.capacity_bytes();
   }
 
-  // Gives one detection (broad phase `broad`, narrow phase `narrow`) what
-  // the budget leaves beside the other's buffers (idle: detections never
-  // overlap), the topology and the frames: the narrow phase a fifth of it (at
-  // most kNarrowRoomCap) in rounds of narrow_bytes_per_candidate, the broad
-  // phase the rest (its chunks at most kChunkRoomCap). The other detection
-  // first gives its buffers back when it holds more than half.
-  void use_budget(CudaBroadPhase& broad, CudaNarrowPhase& narrow, std::size_t narrow_bytes_per_candidate,
-                  CudaBroadPhase& other_broad, CudaNarrowPhase& other_narrow) {
+  Detection ccd_detection() {
+    return Detection{ccd_broad_.get(), {&narrow_, &edge_narrow_}, CudaNarrowPhase::kCcdBytesPerCandidate};
+  }
+  Detection static_detection() {
+    return Detection{static_broad_.get(), {&static_narrow_, nullptr}, CudaNarrowPhase::kStaticBytesPerPair};
+  }
+
+  // Gives one detection what the budget leaves beside the other's buffers
+  // (idle: detections never overlap), the topology and the frames: its
+  // narrow phases a fifth of it (at most kNarrowRoomCap), shared equally, in
+  // rounds of narrow_bytes_per_candidate, the broad phase the rest (its
+  // chunks at most kChunkRoomCap). The other detection first gives its
+  // buffers back when it holds more than half.
+  void use_budget(const Detection& detection, const Detection& other) {
     const std::size_t available = budget_ - bound_bytes();  // bind() checked it is positive
-    if (other_broad.held_bytes() + other_narrow.held_bytes() > available / 2) {
-      other_broad.release_buffers();
-      other_narrow.release_buffers();
-    }
-    const std::size_t taken = other_broad.held_bytes() + other_narrow.held_bytes();
+    if (other.held_bytes() > available / 2) other.release_buffers();
+    const std::size_t taken = other.held_bytes();
     if (taken >= available)
       throw UsageError("the device memory limit of " + std::to_string(budget_) +
                        " bytes is too small for this scene: " + std::to_string(bound_bytes() + taken) +
                        " bytes are taken before a detection starts; raise the limit (snag-scan --device-memory)");
     const std::size_t share = available - taken;
     const std::size_t narrow_room = std::min(kNarrowRoomCap, share / 5);
+    const std::size_t part_room = narrow_room / (detection.narrow[1] != nullptr ? 2 : 1);
     const std::size_t rounds = std::min(CudaNarrowPhase::kDefaultChunkSize,
-                                        std::max<std::size_t>(1, narrow_room / narrow_bytes_per_candidate));
-    narrow.set_chunk_size(rounds);
-    if (narrow.held_bytes() > narrow_room) narrow.release_buffers();
-    broad.set_memory_budget(share - narrow_room, kChunkRoomCap);
+                                        std::max<std::size_t>(1, part_room / detection.narrow_bytes_per_candidate));
+    for (CudaNarrowPhase* part : detection.narrow) {
+      if (part == nullptr) continue;
+      part->set_chunk_size(rounds);
+      if (part->held_bytes() > part_room) part->release_buffers();
+    }
+    detection.broad->set_memory_budget(share - narrow_room, kChunkRoomCap);
   }
 
   // Runs `detect` (one detection from its start: it clears what an earlier
@@ -357,27 +464,25 @@ class CudaBackend final : public Backend {
   // (UsageError), the other's buffers are given back and `detect` runs again
   // with all the room it would have alone.
   template <class Detect>
-  void detect_within_budget(CudaBroadPhase& broad, CudaNarrowPhase& narrow, std::size_t narrow_bytes_per_candidate,
-                            CudaBroadPhase& other_broad, CudaNarrowPhase& other_narrow, Detect detect) {
-    use_budget(broad, narrow, narrow_bytes_per_candidate, other_broad, other_narrow);
+  void detect_within_budget(const Detection& detection, const Detection& other, Detect detect) {
+    use_budget(detection, other);
     try {
       detect();
     } catch (const UsageError&) {
-      if (other_broad.held_bytes() + other_narrow.held_bytes() == 0) throw;
-      other_broad.release_buffers();
-      other_narrow.release_buffers();
-      use_budget(broad, narrow, narrow_bytes_per_candidate, other_broad, other_narrow);
+      if (other.held_bytes() == 0) throw;
+      other.release_buffers();
+      use_budget(detection, other);
       detect();
     }
   }
 
-  // Starts find_static(slot) on a thread of its own, on this thread's device.
+  // Starts find_static(slot) on the worker thread, on this thread's device.
   void start_static_ahead(int slot) {
     wait_for(static_stream_.get(), slot);
     int device = 0;
     SNAG_CUDA_CHECK(cudaGetDevice(&device));
     static_ahead_slot_ = slot;
-    static_ahead_ = std::async(std::launch::async, [this, slot, device] {
+    static_ahead_ = worker_.run([this, slot, device] {
       SNAG_CUDA_CHECK(cudaSetDevice(device));
       find_static(slot);
     });
@@ -444,8 +549,9 @@ class CudaBackend final : public Backend {
   std::unique_ptr<tbb::task_arena> arena_;
   DeviceBuffer<Triangle> triangles_;
   DeviceBuffer<Edge> edges_;
-  CudaNarrowPhase narrow_;
-  CudaNarrowPhase static_narrow_;  ///< on static_stream_, beside narrow_
+  CudaNarrowPhase narrow_;         ///< the CCD's vertex-face queries, on compute_
+  CudaNarrowPhase edge_narrow_;    ///< the CCD's edge-edge queries, on compute_
+  CudaNarrowPhase static_narrow_;  ///< on static_stream_
   FrameSlot slots_[2];
   unsigned long long use_clock_ = 0;
   StaticFound static_found_;
@@ -455,6 +561,7 @@ class CudaBackend final : public Backend {
   int static_ahead_slot_ = -1;
   PipelineStats stats_;
   std::size_t budget_ = 0;  ///< device bytes the back end may hold
+  Worker worker_;           ///< runs static_ahead_; last, so that it stops first
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 #include <cub/block/block_reduce.cuh>
 #include <cub/device/device_select.cuh>
 
@@ -408,9 +409,16 @@ void CudaNarrowPhase::append_staged_events(std::size_t count, std::vector<Event>
   // The device copy is given back: a large scene's events (72 bytes each)
   // would otherwise stay counted against the budget the other detection gets.
   gathered_.release();
-  if (count == 0) return;
+  pending_to_ = &events;
+  pending_count_ = count;
+  if (!defer_events_) flush_events();
+}
+
+void CudaNarrowPhase::flush_events() {
+  std::vector<Event>* to = std::exchange(pending_to_, nullptr);
+  if (to == nullptr || pending_count_ == 0) return;
   const Event* staged = reinterpret_cast<const Event*>(host_gathered_.data());  // cudaMallocHost: aligned
-  append_events(events, staged, count);
+  append_events(*to, staged, pending_count_);
 }
 
 template <class Query>
@@ -430,6 +438,7 @@ template <class Query>
 void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::size_t first,
                                     const CcdSettings& settings, CcdPasses passes,
                                     const HitSink<typename Query::Candidate>& sink) {
+  flush_events();  // host_gathered_ is reused below
   const bool screen = passes != CcdPasses::kSinglePass;
   const bool search = passes == CcdPasses::kScreenThenSearch;
   DeviceMemoryTracker::set_stage("narrow phase");
@@ -592,6 +601,7 @@ std::size_t CudaNarrowPhase::run_triangle_pairs(const Vec3* x, const Triangle* t
 std::size_t CudaNarrowPhase::triangle_pairs_chunk(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
                                                   std::size_t count, std::size_t first, TrianglePairCounts& counts,
                                                   const PairSink& sink) {
+  flush_events();  // host_gathered_ is reused below
   CudaEvent start, tested;
   resize_or_throw(flags_, count, "triangle-pair flags");
   resize_or_throw(selected_, count, "triangle-pair indices");

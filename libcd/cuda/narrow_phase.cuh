@@ -143,6 +143,16 @@ class CudaNarrowPhase {
   std::size_t triangle_pair_events(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
                                    std::size_t count, std::vector<Event>& events, TrianglePairCounts& counts);
 
+  /// Deferred events (off by default): the *_events calls then leave the
+  /// events of their last round in pinned host memory instead of appending
+  /// them, and flush_events() appends them to the vector that call was given,
+  /// so that a caller can start other device work before the host copies
+  /// them (tens of megabytes a step). The next call on this object flushes
+  /// them first; drop_events() forgets them.
+  void set_defer_events(bool defer) { defer_events_ = defer; }
+  void flush_events();
+  void drop_events() { pending_to_ = nullptr; }
+
   /// Candidates (or pairs) per kernel round; a call over more runs in rounds
   /// of this many, so that the device memory of a call is bounded by the
   /// round, not by the candidate count. Results do not depend on it.
@@ -194,8 +204,8 @@ class CudaNarrowPhase {
   /// Builds the events of `hits` hits on the device in slices of at most
   /// `slice` (launch(first, n, out) writes those of hits [first, first + n)
   /// to out) in gathered_, and queues their copies to pinned memory; once
-  /// the stream is synchronised, append_staged_events appends them to
-  /// `events` and gives gathered_ back.
+  /// the stream is synchronised, append_staged_events gives gathered_ back
+  /// and appends them to `events`, or defers that (set_defer_events).
   template <class Launch>
   void stage_events(std::size_t hits, std::size_t slice, Launch launch);
   void append_staged_events(std::size_t count, std::vector<Event>& events);
@@ -223,6 +233,9 @@ class CudaNarrowPhase {
   PinnedBuffer<std::uint32_t> host_indices_;
   PinnedBuffer<CcdResult> host_results_;
   PinnedBuffer<unsigned char> host_gathered_;
+  std::vector<Event>* pending_to_ = nullptr;  ///< deferred events go there (flush_events), when not null
+  std::size_t pending_count_ = 0;             ///< how many, in host_gathered_
+  bool defer_events_ = false;
   NarrowPhaseTimings timings_;
   std::size_t chunk_size_ = kDefaultChunkSize;
   unsigned int refine_block_limit_ = 1;  ///< the refine kernel's blocks: kRefineBlocksPerSm per multiprocessor

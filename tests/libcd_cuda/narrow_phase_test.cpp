@@ -265,6 +265,65 @@ TEST_F(NarrowPhaseCcdQueries, EventsBuiltOnTheDeviceAreTheHostsOfTheSameHits) {
                std::invalid_argument);
 }
 
+// Deferred events: a call leaves its last round's events staged until
+// flush_events(), or until the next call, which appends them first; the
+// order is that of appending at once; drop_events() forgets them.
+TEST_F(NarrowPhaseCcdQueries, DeferredEventsComeInTheOrderOfAppendingAtOnce) {
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  const QueryBatch batch = make_batch(queries);
+  const DeviceBatch device(batch);
+  const CcdSettings settings;
+  auto vertex_face = [&](CudaNarrowPhase& narrow, std::vector<Event>& events) {
+    narrow.vertex_face_events(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
+                              batch.vf.size(), settings, CcdPasses::kScreenOnly, events);
+  };
+  auto edge_edge = [&](CudaNarrowPhase& narrow, std::vector<Event>& events) {
+    narrow.edge_edge_events(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(),
+                            batch.ee.size(), settings, CcdPasses::kScreenOnly, events);
+  };
+  for (const std::size_t chunk : {std::size_t{97}, CudaNarrowPhase::kDefaultChunkSize}) {
+    const std::string where = "rounds of " + std::to_string(chunk);
+    CudaNarrowPhase at_once(nullptr), deferred(nullptr);
+    at_once.set_chunk_size(chunk);
+    deferred.set_chunk_size(chunk);
+    deferred.set_defer_events(true);
+    std::vector<Event> expected;
+    vertex_face(at_once, expected);
+    const std::size_t vf_events = expected.size();
+    edge_edge(at_once, expected);
+    ASSERT_GT(vf_events, 0u) << where;
+    ASSERT_GT(expected.size(), vf_events) << where;
+
+    std::vector<Event> events;
+    vertex_face(deferred, events);
+    // Earlier rounds are appended when the next one starts; the last waits.
+    const bool one_round = chunk >= batch.vf.size() && chunk >= batch.ee.size();
+    if (one_round) EXPECT_EQ(events.size(), 0u) << where;
+    EXPECT_LE(events.size(), vf_events) << where;
+    edge_edge(deferred, events);  // appends the vertex-face events first
+    if (one_round) EXPECT_EQ(events.size(), vf_events) << where;
+    EXPECT_GE(events.size(), vf_events) << where;
+    EXPECT_LE(events.size(), expected.size()) << where;
+    deferred.flush_events();
+    test::expect_same_events(expected, events, where);
+    deferred.flush_events();  // nothing left
+    EXPECT_EQ(events.size(), expected.size()) << where;
+
+    // Dropped events are not appended, by a flush or by the next call.
+    std::vector<Event> dropped;
+    vertex_face(deferred, dropped);
+    const std::size_t kept = dropped.size();
+    deferred.drop_events();
+    deferred.flush_events();
+    EXPECT_EQ(dropped.size(), kept) << where;
+    std::vector<Event> again;
+    edge_edge(deferred, again);
+    deferred.flush_events();
+    EXPECT_EQ(dropped.size(), kept) << where;
+    EXPECT_EQ(again.size(), expected.size() - vf_events) << where;
+  }
+}
+
 class NarrowPhaseTrianglePairs : public test::GpuTest {};
 
 TEST_F(NarrowPhaseTrianglePairs, MatchesCpuOnRandomPairsWithSharedVertices) {
