@@ -14,12 +14,13 @@
 //    reading the broad phase's candidates in place, the vertex-face and the
 //    edge-edge queries one after the other, each with its own buffers, so
 //    that the host copies both's events (set_defer_events) only once the
-//    device has the next work: the next frame's static detection. The GPU runs the screen
-//    (early exits and the search over time) and builds the hits' events
-//    (event_fields.hpp, the CPU's formulas); only the events come back to the
-//    host. The few candidates the screen leaves undecided (their events say
-//    kUncertain) get the whole test on the CPU (settle_collision_events),
-//    where one long (t, u, v) search does not hold up a kernel.
+//    device has its next work: the static detection of the step's first
+//    frame. The GPU runs the screen (early exits and the search over time)
+//    and builds the hits' events (event_fields.hpp, the CPU's formulas);
+//    only the events come back to the host. The few candidates the screen
+//    leaves undecided (their events say kUncertain) get the whole test on the
+//    CPU (settle_collision_events), where one long (t, u, v) search does not
+//    hold up a kernel.
 //  - certification: the answers left uncertain go to settings.certifier on
 //    the CPU, as in the CPU back end.
 //  - events: built on the device from the same doubles with the same
@@ -39,15 +40,15 @@
 //    of what the topology and frames leave, it gives its buffers back first;
 //    when it holds less and the limit refuses this one, it gives them back
 //    and this one runs again, with the room it would have alone.
-//  - overlap: the scan asks for frame f's intersections, then for the
-//    collisions of f -> f + 1, then for frame f + 1's intersections. Once
-//    intersections have been asked for, collisions() starts the static
-//    detection of its x_t1 on the device (a thread kept for it, its own
-//    stream, broad phase and narrow phase) as soon as its own device work is
-//    done, before its events are copied on the host, so that it runs while
-//    the host copies, searches, certifies and orders the step's events;
-//    intersections() of that frame then only builds its events. A slot is
-//    never overwritten while that work reads it.
+//  - overlap: the scan asks for the collisions of f -> f + 1, then for frame
+//    f's intersections. Once intersections have been asked for, collisions()
+//    starts the static detection of its x_t0 on the device (a thread kept
+//    for it, its own stream, broad phase and narrow phase) as soon as its own
+//    device work is done, before its events are copied on the host, so that
+//    it runs while the host copies, searches, certifies and orders the step's
+//    events; intersections() of that frame then copies its events from where
+//    the device left them into the caller's list. A slot is never
+//    overwritten while that work reads it.
 #include "libcd/cuda/cuda_backend.hpp"
 
 #include <tbb/parallel_for.h>
@@ -210,6 +211,7 @@ class CudaBackend final : public Backend {
         slots_{FrameSlot(copy_.get()), FrameSlot(copy_.get())} {
     narrow_.set_defer_events(true);
     edge_narrow_.set_defer_events(true);
+    static_narrow_.set_defer_events(true);
   }
 
   ~CudaBackend() override {
@@ -328,8 +330,9 @@ class CudaBackend final : public Backend {
       device_ms += device.screen_ms + device.search_ms + device.compact_ms;
     }
     stats_.narrow.seconds_ccd_device = 1e-3 * device_ms;
-    // The device is free: the next frame's intersections, while the host works.
-    if (static_seen_ && !static_ahead_.valid()) start_static_ahead(slot_t1);
+    // The device is free: x_t0's intersections, which the scan asks for
+    // next, while the host works.
+    if (static_seen_ && !static_ahead_.valid()) start_static_ahead(slot_t0);
     const auto flush_start = std::chrono::steady_clock::now();
     flush_events();
     narrow_seconds += seconds_since(flush_start);
@@ -366,13 +369,13 @@ class CudaBackend final : public Backend {
     stats_.narrow.predicate_calls = found.counts.predicate_calls;
     stats_.narrow.predicate_exact = found.counts.predicate_exact;
     stats_.narrow.triangle_tests = found.tests;
+    // The events of a detection in chunks, then those of its last chunk,
+    // from where the device left them.
     const auto events_start = std::chrono::steady_clock::now();
-    const std::size_t intersecting = found.events.size();
-    if (events.empty()) {
-      events.swap(static_found_.events);  // the next detection clears what it gets back
-    } else {
-      append_events(events, found.events.data(), intersecting);
-    }
+    const std::size_t before = events.size();
+    append_events(events, found.events.data(), found.events.size());
+    static_narrow_.flush_events_to(events);
+    const std::size_t intersecting = events.size() - before;
     stats_.narrow.seconds_static_events = seconds_since(events_start);
     stats_.narrow.triangles_intersecting += intersecting;
     stats_.narrow.seconds_static = found.narrow_seconds + stats_.narrow.seconds_static_events;
@@ -393,8 +396,10 @@ class CudaBackend final : public Backend {
 
   // Static detection of the frame in `slot` on the static stream (which
   // waits for the slot's upload first: wait_for), into static_found_: the
-  // broad phase and the narrow phase on the device, the intersecting pairs
-  // downloaded. Runs on the calling thread or as static_ahead_.
+  // broad phase and the narrow phase on the device, the intersection events
+  // downloaded, those of the last chunk left staged (static_narrow_ defers
+  // them) for intersections() to copy into the caller's list. Runs on the
+  // calling thread or as static_ahead_.
   void find_static(int slot) {
     StaticFound& found = static_found_;
     const Vec3* d_x = slots_[slot].device.data();
@@ -407,6 +412,7 @@ class CudaBackend final : public Backend {
     };
     detect_within_budget(static_detection(), ccd_detection(), [&] {
       found.events.clear();
+      static_narrow_.drop_events();
       found.counts = TrianglePairCounts{};
       found.tests = 0;
       found.narrow_seconds = 0;

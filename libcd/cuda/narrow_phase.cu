@@ -415,10 +415,13 @@ void CudaNarrowPhase::append_staged_events(std::size_t count, std::vector<Event>
 }
 
 void CudaNarrowPhase::flush_events() {
-  std::vector<Event>* to = std::exchange(pending_to_, nullptr);
-  if (to == nullptr || pending_count_ == 0) return;
+  if (pending_to_ != nullptr) flush_events_to(*pending_to_);
+}
+
+void CudaNarrowPhase::flush_events_to(std::vector<Event>& events) {
+  if (std::exchange(pending_to_, nullptr) == nullptr || pending_count_ == 0) return;
   const Event* staged = reinterpret_cast<const Event*>(host_gathered_.data());  // cudaMallocHost: aligned
-  append_events(*to, staged, pending_count_);
+  append_events(events, staged, pending_count_);
 }
 
 template <class Query>

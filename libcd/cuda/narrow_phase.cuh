@@ -151,6 +151,8 @@ class CudaNarrowPhase {
   /// them first; drop_events() forgets them.
   void set_defer_events(bool defer) { defer_events_ = defer; }
   void flush_events();
+  /// As flush_events(), to `events` instead of the vector the call was given.
+  void flush_events_to(std::vector<Event>& events);
   void drop_events() { pending_to_ = nullptr; }
 
   /// Candidates (or pairs) per kernel round; a call over more runs in rounds

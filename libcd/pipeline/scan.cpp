@@ -8,7 +8,6 @@
 #include <future>
 #include <tuple>
 
-#include "libcd/pipeline/event_builder.hpp"
 #include "libcd/pipeline/sink_thread.hpp"
 
 namespace snag {
@@ -162,7 +161,6 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       return seconds_since(read_start);
     });
   };
-  std::vector<Event> static_events;  // a frame's intersections, before they join its list
   try {
     // After the buffers: on the way out it waits for the frame in the sink
     // and drops the others, so that nothing uses the buffers when they go.
@@ -186,22 +184,20 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       done.position = f;
       done.time = source.frame_time(f);
       done.summary.frame = source.frame_index(f);
-      // Collisions go straight into the frame's list and the intersections
-      // (found first) after them.
+      // The collisions, then the intersections, straight into the frame's
+      // list (the order of events), each asked for in that order.
       std::vector<Event>& frame_events = events[f % kEventBuffers];
       frame_events.clear();
-      static_events.clear();
-      if (settings.intersections) {
-        backend.intersections(current, static_events);
-        totals.stats.add(backend.stats());
-        done.summary.intersections = static_events.size();
-      }
       if (settings.collisions && has_next) {
         backend.collisions(current, next, frame_events);
         totals.stats.add(backend.stats());
         done.summary.collisions = frame_events.size();
       }
-      append_events(frame_events, static_events.data(), static_events.size());
+      if (settings.intersections) {
+        backend.intersections(current, frame_events);
+        totals.stats.add(backend.stats());
+        done.summary.intersections = frame_events.size() - done.summary.collisions;
+      }
       finish_events(frame_events, done.summary.collisions, done.summary);
       done.events = &frame_events;
       done.x = &current;

@@ -1,6 +1,7 @@
 // The scan: streams a cache's frames through a back end and hands each
-// frame's events to a sink. Frame f's intersections and the collisions of the
-// step f -> f + 1 are found while frames f and f + 1 are held; frame f + 2 is
+// frame's events to a sink. The collisions of the step f -> f + 1, then
+// frame f's intersections (asked of the back end in that order, the order of
+// the frame's events) are found while frames f and f + 1 are held; frame f + 2 is
 // read meanwhile on another thread, frame f + 1 is handed to the back end's
 // prepare() before the work on frame f starts, and the sink takes the frames
 // before it on a thread of its own (one for the whole scan, fed through a

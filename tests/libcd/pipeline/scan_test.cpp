@@ -73,8 +73,10 @@ TEST(ScanCache, SeesEveryFrameInOrderWithTheNextOnePreparedFirst) {
   const CountingSource source(5, 99);
   RecordingBackend backend;
   const ScanResult result = scan_cache(source, backend, ScanSettings{});
-  const std::vector<std::string> expected = {"p1", "i0", "c0-1", "p2", "i1", "c1-2", "p3", "i2",
-                                             "c2-3", "p4", "i3", "c3-4", "i4"};
+  // Each step's collisions, then its first frame's intersections: the order
+  // of a frame's events.
+  const std::vector<std::string> expected = {"p1", "c0-1", "i0", "p2", "c1-2", "i1", "p3", "c2-3",
+                                             "i2", "p4", "c3-4", "i3", "i4"};
   EXPECT_EQ(backend.calls, expected);
   ASSERT_EQ(result.frames.size(), 5u);
   for (std::size_t f = 0; f < 5; ++f) {
