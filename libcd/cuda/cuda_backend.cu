@@ -1,13 +1,14 @@
 // The CUDA back end: mirrors libcd/cpu/cpu_backend.cpp stage for stage.
 //  - bind(): topology (triangles, edges) uploaded once; the device must hold
 //    it and two frames of positions, else CudaError names the bytes.
-//  - frames: two device slots, each with a pinned host mirror of what it
+//  - frames: three device slots, each with a pinned host mirror of what it
 //    holds. A frame already in a slot (compared by content with the mirror:
 //    the scan passes step f's x_t1 again as frame f + 1's x and step f + 1's
 //    x_t0) is not uploaded again; a new frame is copied to the mirror and
 //    uploaded on a copy stream, and the compute stream waits for it with an
-//    event. prepare() starts the upload of the scan's next frame into the
-//    slot used least recently, so it overlaps the work on the current one.
+//    event. prepare() starts the upload of a frame the scan will ask about
+//    into the slot used least recently of those no work ahead reads, so it
+//    overlaps the work on the current one.
 //  - broad phase: the GPU broad phase (libcd/cuda/cuda_broad_phase.cuh) on the
 //    positions in the slots; its candidates stay on the device.
 //  - narrow phase: libcd/cuda/narrow_phase.cuh (same functions as the CPU),
@@ -40,15 +41,19 @@
 //    of what the topology and frames leave, it gives its buffers back first;
 //    when it holds less and the limit refuses this one, it gives them back
 //    and this one runs again, with the room it would have alone.
-//  - overlap: the scan asks for the collisions of f -> f + 1, then for frame
-//    f's intersections. Once intersections have been asked for, collisions()
-//    starts the static detection of its x_t0 on the device (a thread kept
-//    for it, its own stream, broad phase and narrow phase) as soon as its own
-//    device work is done, before its events are copied on the host, so that
-//    it runs while the host copies, searches, certifies and orders the step's
-//    events; intersections() of that frame then copies its events from where
-//    the device left them into the caller's list. A slot is never
-//    overwritten while that work reads it.
+//  - overlap: the scan prepares frame f + 2, then asks for the collisions of
+//    f -> f + 1, then for frame f's intersections. As soon as its own device
+//    work is done, before its events are copied on the host, collisions()
+//    starts on a thread kept for it (the worker): the static detection of
+//    its x_t0 (its own stream, broad phase and narrow phase) once
+//    intersections have been asked for, then the CCD of the step after it,
+//    f + 1 -> f + 2, when f + 2 was prepared since x_t1 (its events staged
+//    once the host has copied this step's). The device then works on while
+//    the host copies, searches, certifies and orders the step's events and
+//    the scan hands the frame on: intersections() copies the static events
+//    from where the device left them into the caller's list, and the next
+//    collisions() finds its step detected (else it drops that work and
+//    detects its own). A slot is never overwritten while that work reads it.
 #include "libcd/cuda/cuda_backend.hpp"
 
 #include <tbb/parallel_for.h>
@@ -88,6 +93,9 @@ constexpr std::size_t kDefaultMarginBytes = std::size_t{2} << 30;
 constexpr std::size_t kChunkRoomCap = std::size_t{1} << 30;
 /// The narrow phase's share of a detection's budget, at most this much.
 constexpr std::size_t kNarrowRoomCap = std::size_t{512} << 20;
+/// Frames on the device: a step's two, and the frame after them, which the
+/// next step's detection ahead reads.
+constexpr int kFrameSlots = 3;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -189,6 +197,30 @@ struct Detection {
   }
 };
 
+/// One step's CCD on the device (CudaBackend::detect_ccd): the slots of its
+/// frames, the events of its chunks but the last (whose the narrow phases
+/// leave staged), and the counts.
+struct CcdFound {
+  int slot_t0 = -1, slot_t1 = -1;
+  std::vector<Event> events;  ///< detected ahead: the events of the chunks before the last
+  std::size_t vf_count = 0, ee_count = 0;
+  BroadPhaseStats broad;
+  double narrow_seconds = 0, device_seconds = 0;
+};
+
+/// Sets a promise when it goes, whichever way: a thread waiting on it is
+/// never left waiting.
+class SetOnExit {
+ public:
+  explicit SetOnExit(std::promise<void>& promise) : promise_(promise) {}
+  ~SetOnExit() { promise_.set_value(); }
+  SetOnExit(const SetOnExit&) = delete;
+  SetOnExit& operator=(const SetOnExit&) = delete;
+
+ private:
+  std::promise<void>& promise_;
+};
+
 /// One frame's static detection on the device: its intersection events
 /// (built on the device) and the counts.
 struct StaticFound {
@@ -208,7 +240,7 @@ class CudaBackend final : public Backend {
         narrow_(compute_.get()),
         edge_narrow_(compute_.get()),
         static_narrow_(static_stream_.get()),
-        slots_{FrameSlot(copy_.get()), FrameSlot(copy_.get())} {
+        slots_{FrameSlot(copy_.get()), FrameSlot(copy_.get()), FrameSlot(copy_.get())} {
     narrow_.set_defer_events(true);
     edge_narrow_.set_defer_events(true);
     static_narrow_.set_defer_events(true);
@@ -216,11 +248,7 @@ class CudaBackend final : public Backend {
 
   ~CudaBackend() override {
     // Buffers are freed in stream order; let the work using them finish first.
-    try {
-      join_static_ahead();
-    } catch (...) {
-      // An error of work nobody asked for the results of yet: nothing to report it to.
-    }
+    join_worker();  // its errors went to futures nobody asks any more
     (void)cudaStreamSynchronize(static_stream_.get());
     (void)cudaStreamSynchronize(compute_.get());
     (void)cudaStreamSynchronize(copy_.get());
@@ -229,7 +257,9 @@ class CudaBackend final : public Backend {
   std::string name() const override { return "cuda"; }
 
   void bind(const Scene& scene, const BackendSettings& settings) override {
-    join_static_ahead();
+    drop_ahead();
+    prepared_slot_ = -1;
+    static_narrow_.drop_events();
     static_seen_ = false;
     scene_ = &scene;
     settings_ = settings;
@@ -248,15 +278,15 @@ class CudaBackend final : public Backend {
                                                                      : static_cast<int>(settings.threads));
 
     const std::size_t needed = scene.triangle_count() * sizeof(Triangle) + scene.edge_count() * sizeof(Edge) +
-                               2 * scene.vertex_count() * sizeof(Vec3);
+                               kFrameSlots * scene.vertex_count() * sizeof(Vec3);
     std::size_t free_bytes = 0, total_bytes = 0;
     SNAG_CUDA_CHECK(cudaMemGetInfo(&free_bytes, &total_bytes));
     budget_ = settings.device_memory_bytes > 0 ? settings.device_memory_bytes
               : free_bytes > kDefaultMarginBytes ? free_bytes - kDefaultMarginBytes
                                                  : free_bytes / 2;
     if (needed > free_bytes) {
-      throw CudaError("the scene does not fit in GPU memory: its topology and two frames need " +
-                          std::to_string(needed) + " bytes, " + std::to_string(free_bytes) + " of " +
+      throw CudaError("the scene does not fit in GPU memory: its topology and " + std::to_string(kFrameSlots) +
+                          " frames need " + std::to_string(needed) + " bytes, " + std::to_string(free_bytes) + " of " +
                           std::to_string(total_bytes) + " bytes are free; use --backend cpu",
                       static_cast<int>(cudaErrorMemoryAllocation));
     }
@@ -274,8 +304,8 @@ class CudaBackend final : public Backend {
     const std::size_t bound = bound_bytes();
     if (bound >= budget_)
       throw UsageError("the device memory limit of " + std::to_string(budget_) +
-                       " bytes is too small for this scene: its topology and two frames take " +
-                       std::to_string(bound) + " bytes; raise the limit (snag-scan --device-memory)");
+                       " bytes is too small for this scene: its topology and " + std::to_string(kFrameSlots) +
+                       " frames take " + std::to_string(bound) + " bytes; raise the limit (snag-scan --device-memory)");
   }
 
   void collisions(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<Event>& events) override {
@@ -285,63 +315,60 @@ class CudaBackend final : public Backend {
     // Each frame is looked up once (a full compare when it is there); a
     // prepared x_t1 is kept while x_t0 is uploaded.
     const int found_t1 = find_frame(x_t1);
-    const int slot_t0 = upload_frame(x_t0, find_frame(x_t0), found_t1);
-    const int slot_t1 = upload_frame(x_t1, found_t1, slot_t0);
-    wait_for(slot_t0);
-    wait_for(slot_t1);
-    const Vec3* d_x_t0 = slots_[slot_t0].device.data();
-    const Vec3* d_x_t1 = slots_[slot_t1].device.data();
-    join_static_ahead();  // one detection on the device at a time (see the file comment)
-
-    const std::size_t first = events.size();
-    std::size_t vf_count = 0, ee_count = 0;
-    double narrow_seconds = 0;
-    // Each chunk's events are copied on the host when the next chunk comes
-    // (vertex-face, then edge-edge), the last chunk's after the device work.
-    auto flush_events = [&] {
-      narrow_.flush_events();
-      edge_narrow_.flush_events();
-    };
-    auto visit_chunk = [&](const DeviceCandidates& chunk) {
-      const auto narrow_start = std::chrono::steady_clock::now();
-      flush_events();
-      narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
-                                 CcdPasses::kScreenOnly, events);
-      edge_narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
-                                    CcdPasses::kScreenOnly, events);
-      vf_count += chunk.vf_count;
-      ee_count += chunk.ee_count;
-      narrow_seconds += seconds_since(narrow_start);
-    };
-    detect_within_budget(ccd_detection(), static_detection(), [&] {
-      events.resize(first);
+    const int found_t0 = find_frame(x_t0);
+    // The step detected ahead, when it is this one; else its work is dropped
+    // (an error of it too: this step's detection meets its own).
+    bool ahead = false;
+    if (ccd_ahead_.valid()) {
+      ahead = found_t0 >= 0 && found_t0 == ccd_ahead_found_.slot_t0 && found_t1 == ccd_ahead_found_.slot_t1;
+      try {
+        ccd_ahead_.get();
+      } catch (...) {
+        if (ahead) throw;
+      }
+    }
+    join_worker();  // one detection on the device at a time (see the file comment)
+    if (!ahead) {
       narrow_.drop_events();
       edge_narrow_.drop_events();
-      narrow_.reset_timings();
-      edge_narrow_.reset_timings();
-      vf_count = ee_count = 0;
-      narrow_seconds = 0;
-      ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk);
-    });
-    stats_.ccd_broad = ccd_broad_->stats();
-    double device_ms = 0;
-    for (const CudaNarrowPhase* part : {&narrow_, &edge_narrow_}) {
-      const NarrowPhaseTimings& device = part->timings();
-      device_ms += device.screen_ms + device.search_ms + device.compact_ms;
     }
-    stats_.narrow.seconds_ccd_device = 1e-3 * device_ms;
+    const int slot_t0 = upload_frame(x_t0, found_t0, found_t1);
+    const int slot_t1 = upload_frame(x_t1, found_t1, slot_t0);
+
+    const std::size_t first = events.size();
+    if (ahead) {
+      std::swap(ccd_found_, ccd_ahead_found_);  // the next step's detection ahead fills the other
+      events.insert(events.end(), ccd_found_.events.begin(), ccd_found_.events.end());
+    } else {
+      ccd_found_.slot_t0 = slot_t0;
+      ccd_found_.slot_t1 = slot_t1;
+      detect_ccd(slot_t0, slot_t1, events, ccd_found_);
+    }
+    const CcdFound& found = ccd_found_;
+    stats_.ccd_broad = found.broad;
+    stats_.narrow.seconds_ccd_device = found.device_seconds;
+    double narrow_seconds = found.narrow_seconds;
     // The device is free: x_t0's intersections, which the scan asks for
-    // next, while the host works.
-    if (static_seen_ && !static_ahead_.valid()) start_static_ahead(slot_t0);
-    const auto flush_start = std::chrono::steady_clock::now();
-    flush_events();
-    narrow_seconds += seconds_since(flush_start);
+    // next, and the collisions of the step after this one when its frame
+    // was prepared, while the host works.
+    // (A prepared frame equal to x_t0 shares its slot, as in a t0 t1 t0 ... sequence.)
+    const int next_t1 = prepared_slot_ != slot_t1 ? prepared_slot_ : -1;
+    prepared_slot_ = -1;
+    std::promise<void> copied;  // the staged events are copied: the next step's detection may stage its own
+    start_ahead(static_seen_ ? slot_t0 : -1, next_t1 >= 0 ? slot_t1 : -1, next_t1, copied.get_future().share());
+    {
+      const SetOnExit copying(copied);
+      const auto flush_start = std::chrono::steady_clock::now();
+      narrow_.flush_events_to(events);
+      edge_narrow_.flush_events_to(events);
+      narrow_seconds += seconds_since(flush_start);
+    }
     // What the screen left undecided: the whole test and certification, on
     // the CPU. Each chunk's events are in candidate order, vertex-face before
     // edge-edge; several chunks are put in event order.
     const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] {
-      settle_collision_events(*scene_, x_t0, x_t1, vf_count, ee_count, settings_.ccd, settings_.certifier,
+      settle_collision_events(*scene_, x_t0, x_t1, found.vf_count, found.ee_count, settings_.ccd, settings_.certifier,
                               stats_.narrow, events, first, &event_scratch_);
       sort_events_from(events, first, &event_scratch_);
     });
@@ -357,9 +384,12 @@ class CudaBackend final : public Backend {
     static_seen_ = true;
     const int slot = upload_frame(x, find_frame(x), -1);
     if (static_ahead_.valid() && static_ahead_slot_ == slot) {
+      static_ahead_slot_ = -1;
       static_ahead_.get();  // started by collisions(); rethrows what it threw
     } else {
-      join_static_ahead();
+      static_ahead_ = {};
+      static_ahead_slot_ = -1;
+      join_worker();
       wait_for(static_stream_.get(), slot);
       find_static(slot);
     }
@@ -383,7 +413,7 @@ class CudaBackend final : public Backend {
 
   void prepare(const std::vector<Vec3>& x) override {
     require_bound(x.size() == scene_->vertex_count());
-    (void)upload_frame(x, find_frame(x), -1);
+    prepared_slot_ = upload_frame(x, find_frame(x), -1);
   }
 
   const PipelineStats& stats() const override { return stats_; }
@@ -425,8 +455,9 @@ class CudaBackend final : public Backend {
 
   // Device bytes of the topology and the frames (the back end's own buffers).
   std::size_t bound_bytes() const {
-    return triangles_.capacity_bytes() + edges_.capacity_bytes() + slots_[0].device.capacity_bytes() +
-           slots_[1].device.capacity_bytes();
+    std::size_t bytes = triangles_.capacity_bytes() + edges_.capacity_bytes();
+    for (const FrameSlot& slot : slots_) bytes += slot.device.capacity_bytes();
+    return bytes;
   }
 
   Detection ccd_detection() {
@@ -482,27 +513,117 @@ class CudaBackend final : public Backend {
     }
   }
 
-  // Starts find_static(slot) on the worker thread, on this thread's device.
-  void start_static_ahead(int slot) {
-    wait_for(static_stream_.get(), slot);
+  // The CCD of the step in slots (slot_t0, slot_t1) on the compute stream,
+  // into `found`: the broad phase, and both narrow phases' screens on each
+  // chunk of its candidates. The events of each chunk but the last are
+  // appended to `events`; the last's stay staged in the narrow phases (they
+  // defer them). Runs on the calling thread, or on the worker ahead of the
+  // step's collisions() call.
+  void detect_ccd(int slot_t0, int slot_t1, std::vector<Event>& events, CcdFound& found) {
+    wait_for(compute_.get(), slot_t0);
+    wait_for(compute_.get(), slot_t1);
+    const Vec3* d_x_t0 = slots_[slot_t0].device.data();
+    const Vec3* d_x_t1 = slots_[slot_t1].device.data();
+    const std::size_t first = events.size();
+    // Each chunk's events are copied on the host when the next chunk comes
+    // (vertex-face, then edge-edge).
+    auto visit_chunk = [&](const DeviceCandidates& chunk) {
+      const auto narrow_start = std::chrono::steady_clock::now();
+      narrow_.flush_events();
+      edge_narrow_.flush_events();
+      narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
+                                 CcdPasses::kScreenOnly, events);
+      edge_narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
+                                    CcdPasses::kScreenOnly, events);
+      found.vf_count += chunk.vf_count;
+      found.ee_count += chunk.ee_count;
+      found.narrow_seconds += seconds_since(narrow_start);
+    };
+    detect_within_budget(ccd_detection(), static_detection(), [&] {
+      events.resize(first);
+      narrow_.drop_events();
+      edge_narrow_.drop_events();
+      narrow_.reset_timings();
+      edge_narrow_.reset_timings();
+      found.vf_count = found.ee_count = 0;
+      found.narrow_seconds = 0;
+      ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk);
+    });
+    found.broad = ccd_broad_->stats();
+    double device_ms = 0;
+    for (const CudaNarrowPhase* part : {&narrow_, &edge_narrow_}) {
+      const NarrowPhaseTimings& device = part->timings();
+      device_ms += device.screen_ms + device.search_ms + device.compact_ms;
+    }
+    found.device_seconds = 1e-3 * device_ms;
+  }
+
+  // Starts on the worker thread, on this thread's device, one after the
+  // other: find_static(static_slot) when it is not -1 (static_ahead_), then,
+  // when ccd_t0 is not -1, detect_ccd of the step (ccd_t0, ccd_t1) into
+  // ccd_ahead_found_ (ccd_ahead_) once `copied` says that the host has
+  // copied the events the narrow phases hold staged.
+  void start_ahead(int static_slot, int ccd_t0, int ccd_t1, std::shared_future<void> copied) {
+    if (static_slot < 0 && ccd_t0 < 0) return;
     int device = 0;
     SNAG_CUDA_CHECK(cudaGetDevice(&device));
-    static_ahead_slot_ = slot;
-    static_ahead_ = worker_.run([this, slot, device] {
-      SNAG_CUDA_CHECK(cudaSetDevice(device));
-      find_static(slot);
+    auto static_done = std::make_shared<std::promise<void>>();
+    auto ccd_done = std::make_shared<std::promise<void>>();
+    if (static_slot >= 0) {
+      wait_for(static_stream_.get(), static_slot);
+      static_ahead_ = static_done->get_future();
+      static_ahead_slot_ = static_slot;
+    }
+    if (ccd_t0 >= 0) {
+      ccd_ahead_ = ccd_done->get_future();
+      ccd_ahead_found_ = CcdFound{};
+      ccd_ahead_found_.slot_t0 = ccd_t0;
+      ccd_ahead_found_.slot_t1 = ccd_t1;
+    }
+    auto part = [device](std::promise<void>& done, const std::function<void()>& work) {
+      try {
+        SNAG_CUDA_CHECK(cudaSetDevice(device));
+        work();
+        done.set_value();
+      } catch (...) {
+        done.set_exception(std::current_exception());
+      }
+    };
+    worker_task_ = worker_.run([=] {
+      if (static_slot >= 0) part(*static_done, [&] { find_static(static_slot); });
+      if (ccd_t0 >= 0) {
+        copied.wait();
+        part(*ccd_done, [&] { detect_ccd(ccd_t0, ccd_t1, ccd_ahead_found_.events, ccd_ahead_found_); });
+      }
     });
   }
 
-  // Waits for the static detection started ahead, if any; rethrows its error.
-  void join_static_ahead() {
-    if (static_ahead_.valid()) static_ahead_.get();
+  // Waits for the worker's task, if any. Its errors are in its parts' futures.
+  void join_worker() {
+    if (worker_task_.valid()) worker_task_.wait();
+  }
+
+  // Waits for the worker's task and forgets what it found: a slot it read
+  // is about to change.
+  void drop_ahead() {
+    join_worker();
+    static_ahead_ = {};
+    ccd_ahead_ = {};
+    static_ahead_slot_ = -1;
+    narrow_.drop_events();
+    edge_narrow_.drop_events();
+  }
+
+  // Whether the worker's task may still read `slot`.
+  bool read_ahead(int slot) const {
+    return (static_ahead_.valid() && static_ahead_slot_ == slot) ||
+           (ccd_ahead_.valid() && (ccd_ahead_found_.slot_t0 == slot || ccd_ahead_found_.slot_t1 == slot));
   }
 
   // The slot that holds x, or -1.
   int find_frame(const std::vector<Vec3>& x) const {
     const std::size_t bytes = x.size() * sizeof(Vec3);
-    for (int s = 0; s < 2; ++s) {
+    for (int s = 0; s < kFrameSlots; ++s) {
       const FrameSlot& slot = slots_[s];
       if (slot.valid && slot.mirror.size() == x.size() &&
           (bytes == 0 || std::memcmp(slot.mirror.data(), x.data(), bytes) == 0))
@@ -512,8 +633,9 @@ class CudaBackend final : public Backend {
   }
 
   // Returns the slot that holds x: `found` (find_frame(x)) when it is not -1,
-  // else a slot other than `keep` (the least recently used one when keep is
-  // -1) into which x is uploaded.
+  // else a slot other than `keep` into which x is uploaded: the least
+  // recently used of those the worker's task does not read, if any (else
+  // the task is waited for).
   int upload_frame(const std::vector<Vec3>& x, int found, int keep) {
     ++use_clock_;
     const std::size_t bytes = x.size() * sizeof(Vec3);
@@ -521,8 +643,15 @@ class CudaBackend final : public Backend {
       slots_[found].last_use = use_clock_;
       return found;
     }
-    int s = keep == 0 ? 1 : (keep == 1 ? 0 : (slots_[0].last_use <= slots_[1].last_use ? 0 : 1));
-    if (static_ahead_.valid() && static_ahead_slot_ == s) join_static_ahead();  // it reads the slot
+    int s = -1;
+    for (bool may_be_read : {false, true}) {
+      for (int c = 0; c < kFrameSlots; ++c) {
+        if (c == keep || (!may_be_read && read_ahead(c))) continue;
+        if (s < 0 || slots_[c].last_use < slots_[s].last_use) s = c;
+      }
+      if (s >= 0) break;
+    }
+    if (read_ahead(s)) drop_ahead();
     FrameSlot& slot = slots_[s];
     slot.valid = false;
     // The previous upload from this mirror, and the work that read the slot
@@ -541,7 +670,6 @@ class CudaBackend final : public Backend {
     return s;
   }
 
-  void wait_for(int slot) { wait_for(compute_.get(), slot); }
   void wait_for(cudaStream_t stream, int slot) {
     SNAG_CUDA_CHECK(cudaStreamWaitEvent(stream, slots_[slot].uploaded.get(), 0));
   }
@@ -558,16 +686,21 @@ class CudaBackend final : public Backend {
   CudaNarrowPhase narrow_;         ///< the CCD's vertex-face queries, on compute_
   CudaNarrowPhase edge_narrow_;    ///< the CCD's edge-edge queries, on compute_
   CudaNarrowPhase static_narrow_;  ///< on static_stream_
-  FrameSlot slots_[2];
+  FrameSlot slots_[kFrameSlots];
   unsigned long long use_clock_ = 0;
   StaticFound static_found_;
+  CcdFound ccd_found_;          ///< the last step's CCD
+  CcdFound ccd_ahead_found_;    ///< the next step's, detected ahead (ccd_ahead_)
   EventScratch event_scratch_;  ///< the settle's and the sort's room, kept from step to step
   bool static_seen_ = false;          ///< intersections() was called since bind()
+  std::future<void> worker_task_;     ///< what start_ahead() gave the worker
   std::future<void> static_ahead_;    ///< find_static() running ahead, when valid
   int static_ahead_slot_ = -1;
+  std::future<void> ccd_ahead_;  ///< detect_ccd() of the next step running ahead, when valid
+  int prepared_slot_ = -1;       ///< the slot of the frame prepare() was given last, if no step used it yet
   PipelineStats stats_;
   std::size_t budget_ = 0;  ///< device bytes the back end may hold
-  Worker worker_;           ///< runs static_ahead_; last, so that it stops first
+  Worker worker_;           ///< runs static_ahead_ and ccd_ahead_; last, so that it stops first
 };
 
 }  // namespace

@@ -91,7 +91,11 @@ class Backend {
   /// Says that positions x (#V) will be passed to a later call, so that a
   /// back end can start moving them to where it computes while it works on
   /// the current frame (the CUDA back end uploads them on a copy stream). x
-  /// must stay unchanged until that call. The CPU back end ignores it.
+  /// must stay unchanged until that call. When x was prepared after the x_t1
+  /// of a collisions() call, a back end may start the collisions of x_t1 ->
+  /// x during that call (the CUDA back end does, on its device, while the
+  /// host works on the call's events); a next call for another step only
+  /// drops that work. The CPU back end ignores it.
   virtual void prepare(const std::vector<Vec3>& /*x*/) {}
   /// Counts of the last call.
   virtual const PipelineStats& stats() const = 0;

@@ -92,8 +92,10 @@ namespace {
 // up by the next ones instead of stopping the scan.
 constexpr std::size_t kFramesInSink = 2;
 // Frame buffers: the frames in the sink (and the step's next frame of the
-// last of them), the two the back end works on, and the one being read.
-constexpr std::size_t kFrameBuffers = kFramesInSink + 3;
+// last of them), the step the back end works on and the frame after it
+// (prepared, so that a back end can start the next step), and the one being
+// read.
+constexpr std::size_t kFrameBuffers = kFramesInSink + 4;
 // Event lists: one per frame in the sink, and the one being filled.
 constexpr std::size_t kEventBuffers = kFramesInSink + 1;
 
@@ -165,21 +167,27 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
     // After the buffers: on the way out it waits for the frame in the sink
     // and drops the others, so that nothing uses the buffers when they go.
     SinkThread sinking(sink, kFramesInSink);
+    // Frame i is read ahead, then prepared (for collisions) and the frame
+    // after it read, while frame i - 2 is worked on.
+    auto take_read = [&](std::size_t i) {
+      totals.read_seconds += reading.get();
+      if (settings.collisions) backend.prepare(frames[i % kFrameBuffers]);
+      if (i + 1 < frame_count) read_ahead(i + 1);
+    };
     if (frame_count > 0) {
       const auto read_start = Clock::now();
       source.read_frame(0, frames[0]);
       totals.read_seconds += seconds_since(read_start);
-      if (frame_count > 1 && detect) read_ahead(1);
+      if (frame_count > 1 && detect) {
+        read_ahead(1);
+        take_read(1);
+      }
     }
     for (std::size_t f = 0; f < frame_count; ++f) {
       const std::vector<Vec3>& current = frames[f % kFrameBuffers];
       const std::vector<Vec3>& next = frames[(f + 1) % kFrameBuffers];
       const bool has_next = f + 1 < frame_count && detect;
-      if (has_next) {
-        totals.read_seconds += reading.get();
-        if (settings.collisions) backend.prepare(next);
-        if (f + 2 < frame_count) read_ahead(f + 2);
-      }
+      if (f + 2 < frame_count && detect) take_read(f + 2);
       ScannedFrame done;
       done.position = f;
       done.time = source.frame_time(f);

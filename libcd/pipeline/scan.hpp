@@ -1,12 +1,14 @@
 // The scan: streams a cache's frames through a back end and hands each
 // frame's events to a sink. The collisions of the step f -> f + 1, then
 // frame f's intersections (asked of the back end in that order, the order of
-// the frame's events) are found while frames f and f + 1 are held; frame f + 2 is
-// read meanwhile on another thread, frame f + 1 is handed to the back end's
-// prepare() before the work on frame f starts, and the sink takes the frames
-// before it on a thread of its own (one for the whole scan, fed through a
-// bounded queue of two frames), so reading, uploading and reporting overlap
-// detection while the scan holds at most five frames and three event lists.
+// the frame's events) are found while frames f, f + 1 and f + 2 are held;
+// frame f + 3 is read meanwhile on another thread, frame f + 2 is handed to
+// the back end's prepare() before the work on frame f starts (frame f + 1
+// was, before the work on f - 1), so that a back end may start the next step
+// early, and the sink takes the frames before it on a thread of its own (one
+// for the whole scan, fed through a bounded queue of two frames), so reading,
+// uploading, detection and reporting overlap while the scan holds at most six
+// frames and three event lists.
 #pragma once
 
 #include <cstddef>

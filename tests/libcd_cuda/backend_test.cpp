@@ -181,6 +181,37 @@ TEST_F(BackendEquality, IntersectionsOfAFrameOtherThanTheOneStartedAhead) {
   EXPECT_GT(pair.intersections_found, 0u);
 }
 
+// collisions() also detects the next step ahead when a frame was prepared
+// since its x_t1 (the scan prepares frame f + 2 before the step f -> f + 1):
+// the next call must get its own step's collisions when it asks for another
+// step, or for the prepared vector refilled in place.
+TEST_F(BackendEquality, CollisionsOfAStepOtherThanTheOneDetectedAhead) {
+  const Soup soup = make_soup(900, 5, 0.03, 13);
+  const std::vector<std::vector<Vec3>>& x = soup.frames;
+  BackendPair pair(soup.scene, settings_with_certifier(true));
+  pair.compare_frame(x[0], "frame 0");
+  pair.gpu->prepare(x[2]);
+  pair.compare_step(x[0], x[1], "step 0");  // detects 1 -> 2 ahead
+  pair.compare_frame(x[0], "frame 0 again");
+  pair.compare_step(x[1], x[2], "step 1, detected ahead");
+  pair.gpu->prepare(x[4]);
+  pair.compare_step(x[2], x[3], "step 2");  // detects 3 -> 4 ahead
+  pair.compare_step(x[3], x[0], "step 3 -> 0 instead of 3 -> 4");
+  std::vector<Vec3> refilled = x[2];
+  pair.gpu->prepare(refilled);
+  pair.compare_step(x[0], x[1], "step 0 again");  // detects 1 -> 2 ahead
+  refilled = x[4];
+  pair.compare_step(x[1], refilled, "step 1 -> 4, the prepared vector refilled");
+  const std::vector<Vec3> again = x[0];  // a t0 t1 t0 ... sequence: the frame after the step is its x_t0
+  pair.gpu->prepare(again);
+  pair.compare_step(x[0], x[1], "step 0, x_t0 prepared again");  // detects 1 -> 0 ahead
+  pair.compare_step(x[1], again, "step 1 -> 0, detected ahead");
+  pair.compare_frame(x[1], "frame 1");
+  pair.compare_frame(refilled, "frame 4");
+  EXPECT_GT(pair.collisions_found, 0u);
+  EXPECT_GT(pair.intersections_found, 0u);
+}
+
 /// The sample caches: $SNAG_SAMPLES_DIR; else samples/ next to the reference
 /// data named by $SNAG_SHARED_DATA_DIR (the GPU bundle's layout); else the
 /// source tree's.
