@@ -518,16 +518,26 @@ class CudaBackend final : public Backend {
   // chunk of its candidates. The events of each chunk but the last are
   // appended to `events`; the last's stay staged in the narrow phases (they
   // defer them). Runs on the calling thread, or on the worker ahead of the
-  // step's collisions() call.
-  void detect_ccd(int slot_t0, int slot_t1, std::vector<Event>& events, CcdFound& found) {
+  // step's collisions() call; then the events the narrow phases hold staged
+  // may still be the host's to copy (collisions() copies them while this
+  // runs), and `claim_staged` waits till they are copied: the broad phase
+  // runs meanwhile, and the narrow phases' staged events are left alone
+  // until it returns (the first pass starts with none staged).
+  void detect_ccd(int slot_t0, int slot_t1, std::vector<Event>& events, CcdFound& found,
+                  const std::function<void()>& claim_staged = [] {}) {
     wait_for(compute_.get(), slot_t0);
     wait_for(compute_.get(), slot_t1);
     const Vec3* d_x_t0 = slots_[slot_t0].device.data();
     const Vec3* d_x_t1 = slots_[slot_t1].device.data();
     const std::size_t first = events.size();
+    bool claimed = false;
+    auto claim = [&] {
+      if (!std::exchange(claimed, true)) claim_staged();
+    };
     // Each chunk's events are copied on the host when the next chunk comes
     // (vertex-face, then edge-edge).
     auto visit_chunk = [&](const DeviceCandidates& chunk) {
+      claim();
       const auto narrow_start = std::chrono::steady_clock::now();
       narrow_.flush_events();
       edge_narrow_.flush_events();
@@ -539,16 +549,21 @@ class CudaBackend final : public Backend {
       found.ee_count += chunk.ee_count;
       found.narrow_seconds += seconds_since(narrow_start);
     };
+    bool again = false;
     detect_within_budget(ccd_detection(), static_detection(), [&] {
       events.resize(first);
-      narrow_.drop_events();
-      edge_narrow_.drop_events();
+      if (std::exchange(again, true)) {  // the pass before this one may have left events staged
+        claim();
+        narrow_.drop_events();
+        edge_narrow_.drop_events();
+      }
       narrow_.reset_timings();
       edge_narrow_.reset_timings();
       found.vf_count = found.ee_count = 0;
       found.narrow_seconds = 0;
       ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk);
     });
+    claim();  // a step without candidates
     found.broad = ccd_broad_->stats();
     double device_ms = 0;
     for (const CudaNarrowPhase* part : {&narrow_, &edge_narrow_}) {
@@ -561,8 +576,8 @@ class CudaBackend final : public Backend {
   // Starts on the worker thread, on this thread's device, one after the
   // other: find_static(static_slot) when it is not -1 (static_ahead_), then,
   // when ccd_t0 is not -1, detect_ccd of the step (ccd_t0, ccd_t1) into
-  // ccd_ahead_found_ (ccd_ahead_) once `copied` says that the host has
-  // copied the events the narrow phases hold staged.
+  // ccd_ahead_found_ (ccd_ahead_), its narrow phases once `copied` says
+  // that the host has copied the events they hold staged.
   void start_ahead(int static_slot, int ccd_t0, int ccd_t1, std::shared_future<void> copied) {
     if (static_slot < 0 && ccd_t0 < 0) return;
     int device = 0;
@@ -592,8 +607,9 @@ class CudaBackend final : public Backend {
     worker_task_ = worker_.run([=] {
       if (static_slot >= 0) part(*static_done, [&] { find_static(static_slot); });
       if (ccd_t0 >= 0) {
-        copied.wait();
-        part(*ccd_done, [&] { detect_ccd(ccd_t0, ccd_t1, ccd_ahead_found_.events, ccd_ahead_found_); });
+        part(*ccd_done, [&] {
+          detect_ccd(ccd_t0, ccd_t1, ccd_ahead_found_.events, ccd_ahead_found_, [&] { copied.wait(); });
+        });
       }
     });
   }
