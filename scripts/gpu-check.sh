@@ -15,7 +15,10 @@
 # Steps: nvidia-smi; every GPU test executable with --gtest_output=json; each
 # under compute-sanitizer memcheck (with leak check) and racecheck when
 # compute-sanitizer is found (PATH, /usr/local/cuda); every GPU benchmark
-# (Google Benchmark, JSON out); snag-scan --version when present. A summary
+# (Google Benchmark, JSON out); snag-scan --version when present; with the
+# device tracer, a timeline of snag-scan on a 22-frame cloth_ball sequence in
+# each mode, summed up per step (trace-MODE.txt; the CUPTI library is taken
+# from the machine's CUDA toolkit, /usr/local/cuda). A summary
 # table comes last. Exit status: 0 when every step that ran passed, else 1;
 # GPU tests that skip count as failed when nvidia-smi lists a GPU.
 set -uo pipefail
@@ -153,6 +156,32 @@ while read -r kind name path; do
         record "bench $name" FAIL "exit $rc" $((SECONDS - start))
       fi
       ;;
+    trace)
+      cupti=$(ls -d /usr/local/cuda/lib64/libcupti.so* /usr/local/cuda/extras/CUPTI/lib64/libcupti.so* \
+        /usr/local/cuda-*/lib64/libcupti.so* 2>/dev/null | head -1)
+      meshes=$bundle/data/meshes
+      if [ "${SNAG_GPU_CHECK_BENCH:-1}" = 0 ] || [ -z "$cupti" ] || [ ! -x "$bundle/bin/snag-scan" ]; then
+        record "trace $name" SKIP "benchmarks off, no CUPTI in /usr/local/cuda, or no snag-scan" 0
+        continue
+      fi
+      sequence=()
+      for k in $(seq 0 21); do sequence+=("$meshes/cloth_ball9$((2 + k % 2)).ply"); done
+      for mode in ccd all; do
+        echo "== trace $name: snag-scan -m $mode, cloth_ball 22 frames"
+        start=$SECONDS
+        LD_LIBRARY_PATH="$(dirname "$cupti"):$LD_LIBRARY_PATH" CUDA_INJECTION64_PATH="$binary" \
+          SNAG_CUPTI_TRACE="$logs/trace-$mode.csv" "$bundle/bin/snag-scan" --sequence "${sequence[@]}" -b cuda \
+          -m "$mode" -q -r "$logs/trace-$mode.jsonl" >"$logs/trace-$mode.log" 2>&1
+        rc=$?  # 1: events found
+        python3 "$bundle/trace_summary.py" "$logs/trace-$mode.csv" 2>&1 | tee "$logs/trace-$mode.txt"
+        summary_rc=${PIPESTATUS[0]}
+        if [ "$rc" -le 1 ] && [ "$summary_rc" -eq 0 ]; then
+          record "trace $name -m $mode" PASS "$(sed -n 2p "$logs/trace-$mode.txt")" $((SECONDS - start))
+        else
+          record "trace $name -m $mode" FAIL "snag-scan exit $rc; see trace-$mode.log" $((SECONDS - start))
+        fi
+      done
+      ;;
     tool)
       echo "== tool $name"
       start=$SECONDS
@@ -167,7 +196,7 @@ while read -r kind name path; do
       ;;
   esac
 done < <(awk '$1 == "test"' "$bundle/manifest.txt"; awk '$1 == "tool"' "$bundle/manifest.txt";
-          awk '$1 == "bench"' "$bundle/manifest.txt")  # tests first: they say whether the timings mean anything
+          awk '$1 == "bench"' "$bundle/manifest.txt"; awk '$1 == "trace"' "$bundle/manifest.txt")  # tests first: they say whether the timings mean anything
 
 echo
 echo "== summary (logs in $logs)"

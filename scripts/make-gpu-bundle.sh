@@ -14,8 +14,10 @@
 #
 # What goes in (the executables are listed by CMake in build-gpu/gpu-targets.txt,
 # see snag_register_gpu_target in libcd/cuda/CMakeLists.txt):
-#   bin/          the GPU test executables, GPU benchmarks and snag-scan (when it
-#                 exists), stripped; Release build in build-gpu/, OpenVDB and assimp off (the bundled
+#   bin/          the GPU test executables, GPU benchmarks, snag-scan (when it
+#                 exists) and the device tracer (libsnag_cupti_trace, when the
+#                 toolkit has CUPTI; its libcupti comes from the GPU machine's
+#                 toolkit, and trace_summary.py goes beside gpu-check.sh), stripped; Release build in build-gpu/, OpenVDB and assimp off (the bundled
 #                 data is PLY, OBJ and PC2, which snag reads itself; assimp and
 #                 its codecs alone would take 12 MiB of the 64)
 #   lib/          the shared libraries they load (from ldd), except the C library
@@ -89,6 +91,7 @@ is_system_library() {
   case "$1" in
     linux-vdso.so* | ld-linux*.so* | libc.so* | libm.so* | libpthread.so* | libdl.so* | librt.so* | \
       libresolv.so* | libutil.so* | libmvec.so* | libanl.so* | libcuda.so* | libnvidia-*.so*) return 0 ;;
+    libcupti.so*) return 0 ;;  # the tracer's: from the GPU machine's CUDA toolkit (gpu-check.sh)
   esac
   return 1
 }
@@ -110,6 +113,7 @@ cp "$data/README.md" "$bundle/data/"
 cp "$data"/meshes/cloth_ball9[23].ply "$data/meshes/LICENSE" "$bundle/data/meshes/"
 cp -r "$data/ccd-queries" "$bundle/data/"
 cp "$root/scripts/gpu-check.sh" "$bundle/gpu-check.sh"
+cp "$root/bench/gpu/trace_summary.py" "$bundle/trace_summary.py"
 chmod -R u+w "$bundle"
 
 shopt -s nullglob

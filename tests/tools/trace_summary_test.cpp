@@ -1,0 +1,72 @@
+// bench/gpu/trace_summary.py on hand-made device timelines (the CSV that
+// libsnag_cupti_trace.so writes), whose busy and idle time, gaps, kernels and
+// copies per step are known by construction.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "tests/tools/run_process.hpp"
+
+namespace snag::test {
+namespace {
+
+constexpr const char* kMarker = "_ZN4snag12_GLOBAL__N_121ccd_early_exit_kernelINS0_13EdgeEdgeQueryEEEvT_m";
+constexpr const char* kPairs = "_ZN4snag12_GLOBAL__N_121triangle_pairs_kernelEPKdm";
+
+// `steps` steps of 1 ms each: the marker kernel for 100 us, then on another
+// stream the pair kernel from 200 to 600 us and a 1 MB copy from 500 to
+// 700 us (overlapping it). Busy 600 us a step; idle 400 us in two gaps, of
+// 100 and 300 us.
+std::string timeline(int steps) {
+  std::string csv = "kind,start_ns,end_ns,stream,bytes,name\n";
+  auto row = [&](const char* kind, long long start, long long end, int stream, long long bytes, const char* name) {
+    csv += std::string(kind) + "," + std::to_string(start) + "," + std::to_string(end) + "," + std::to_string(stream) +
+           "," + std::to_string(bytes) + "," + name + "\n";
+  };
+  for (int k = 0; k < steps; ++k) {
+    const long long t = 5'000'000'000LL + k * 1'000'000LL;
+    row("memcpy", t + 500'000, t + 700'000, 7, 1'000'000, "DtoH");  // out of order: the script sorts
+    row("kernel", t, t + 100'000, 7, 0, kMarker);
+    row("kernel", t + 200'000, t + 600'000, 9, 0, kPairs);
+  }
+  return csv;
+}
+
+ProcessResult summarize(const std::string& csv, const TemporaryDirectory& dir) {
+  return run_process(SNAG_PYTHON3, {TRACE_SUMMARY_PY, dir.write("trace.csv", csv)}, {60});
+}
+
+TEST(TraceSummary, BusyIdleGapsKernelsAndCopiesPerStep) {
+  TemporaryDirectory dir;
+  const ProcessResult run = summarize(timeline(9), dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // Markers 2..6 of 9: four whole steps.
+  EXPECT_NE(run.out.find("9 steps"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("measured over steps 2..6 (4)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("per step: 1.000 ms; device busy 0.600 ms, idle 0.400 ms"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("gaps of 5 us or more: 2.0 per step, 0.400 ms"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("longest gaps (ms): 0.300 0.300 0.300 0.300 0.100"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("kernels: 0.500 ms per step"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("memcpy DtoH: 1.00 MB, 0.200 ms per step"), std::string::npos) << run.out;
+  for (const char* line :
+       {"stream 7: 2.0 activities per step, busy 0.300 ms", "stream 9: 1.0 activities per step, busy 0.400 ms"})
+    EXPECT_NE(run.out.find(line), std::string::npos) << line << "\n" << run.out;
+  // The pair kernel first (400 us a step), under its readable name when
+  // c++filt is there, else its mangled one.
+  const std::size_t pairs = run.out.find("0.400        1.0  ");
+  ASSERT_NE(pairs, std::string::npos) << run.out;
+  EXPECT_LT(pairs, run.out.find("0.100        1.0  ")) << run.out;
+}
+
+TEST(TraceSummary, TooFewStepsIsAnError) {
+  TemporaryDirectory dir;
+  const ProcessResult run = summarize(timeline(3), dir);
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.err.find("too few steps"), std::string::npos) << run.err;
+  const ProcessResult empty = summarize("kind,start_ns,end_ns,stream,bytes,name\n", dir);
+  EXPECT_NE(empty.exit_code, 0);
+  EXPECT_NE(empty.err.find("lists no device work"), std::string::npos) << empty.err;
+}
+
+}  // namespace
+}  // namespace snag::test
