@@ -74,20 +74,23 @@ def shorten(name):
 
 
 def union_length(intervals, lo, hi):
-    """Total length of the union of [start, end) intervals clipped to [lo, hi),
-    and the gaps between them (lengths)."""
-    covered, gaps, reach = 0, [], lo
-    for start, end in sorted(intervals):
+    """Total length of the union of [start, end) intervals (with a label
+    after them, if any) clipped to [lo, hi), and the gaps between them:
+    (length, label of the work that ended last before it, label of the work
+    after it)."""
+    covered, gaps, reach, last = 0, [], lo, None
+    for start, end, *label in sorted(intervals):
+        label = label[0] if label else None
         start, end = max(start, lo), min(end, hi)
         if end <= start:
             continue
         if start > reach:
-            gaps.append(start - reach)
+            gaps.append((start - reach, last, label))
         if end > reach:
             covered += end - max(start, reach)
-            reach = end
+            reach, last = end, label
     if hi > reach:
-        gaps.append(hi - reach)
+        gaps.append((hi - reach, last, None))
     return covered, gaps
 
 
@@ -98,6 +101,8 @@ def main():
                         help="regular expression on the mangled kernel name that starts a step")
     parser.add_argument("--gap", type=float, default=5.0, help="gaps shorter than this many microseconds are not listed")
     parser.add_argument("--kernels", type=int, default=15, help="kernels listed")
+    parser.add_argument("--gap-context", type=int, default=5,
+                        help="longest gaps listed with the work before and after them")
     args = parser.parse_args()
 
     rows = []
@@ -116,7 +121,13 @@ def main():
     steps = last - first
     ms = 1e-6 / steps  # ns in the window -> ms per step
 
-    busy, gaps = union_length([(r[1], r[2]) for r in rows], lo, hi)
+    names = demangle({r[5] for r in rows if r[0] == "kernel"})
+
+    def label(r):
+        return names.get(r[5], r[5]) if r[0] == "kernel" else f"[{r[0]} {r[5]}]"
+
+    busy, gap_list = union_length([(r[1], r[2], label(r)) for r in rows], lo, hi)
+    gaps = [g[0] for g in gap_list]
     listed = sorted((g for g in gaps if g >= args.gap * 1e3), reverse=True)
     print(f"trace: {len(rows)} activities; {len(starts)} steps (marker /{args.marker}/), "
           f"measured over steps {first}..{last} ({steps})")
@@ -124,6 +135,8 @@ def main():
     print(f"  gaps of {args.gap:g} us or more: {len(listed) / steps:.1f} per step, {sum(listed) * ms:.3f} ms; "
           f"shorter: {(len(gaps) - len(listed)) / steps:.1f} per step, {(hi - lo - busy - sum(listed)) * ms:.3f} ms")
     print("  longest gaps (ms): " + " ".join(f"{g * 1e-6:.3f}" for g in listed[:8]))
+    for length, before, after in sorted(gap_list, key=lambda g: -g[0])[:args.gap_context]:
+        print(f"    {length * 1e-6:.3f} ms between {before or 'the window start'} and {after or 'the window end'}")
 
     in_window = [r for r in rows if lo <= r[1] < hi]
     streams = defaultdict(list)
@@ -133,10 +146,9 @@ def main():
         stream_busy, _ = union_length(intervals, lo, hi)
         print(f"  stream {stream}: {len(intervals) / steps:.1f} activities per step, busy {stream_busy * ms:.3f} ms")
 
-    names = demangle({r[5] for r in in_window if r[0] == "kernel"})
     totals = defaultdict(lambda: [0, 0])
     for r in in_window:
-        key = names.get(r[5], r[5]) if r[0] == "kernel" else f"[{r[0]} {r[5]}]"
+        key = label(r)
         totals[key][0] += r[2] - r[1]
         totals[key][1] += 1
     kernel_time = sum(t for key, (t, _) in totals.items() if not key.startswith("["))

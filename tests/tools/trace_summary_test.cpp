@@ -46,6 +46,9 @@ TEST(TraceSummary, BusyIdleGapsKernelsAndCopiesPerStep) {
   EXPECT_NE(run.out.find("per step: 1.000 ms; device busy 0.600 ms, idle 0.400 ms"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("gaps of 5 us or more: 2.0 per step, 0.400 ms"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("longest gaps (ms): 0.300 0.300 0.300 0.300 0.100"), std::string::npos) << run.out;
+  // Each 300 us gap follows the copy (which ends last) and comes before the next step's marker.
+  EXPECT_NE(run.out.find("0.300 ms between [memcpy DtoH] and "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("0.300 ms between [memcpy DtoH] and the window end"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("kernels: 0.500 ms per step"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("memcpy DtoH: 1.00 MB, 0.200 ms per step"), std::string::npos) << run.out;
   for (const char* line :
