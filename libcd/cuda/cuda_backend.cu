@@ -338,7 +338,6 @@ class CudaBackend final : public Backend {
     const std::size_t first = events.size();
     if (ahead) {
       std::swap(ccd_found_, ccd_ahead_found_);  // the next step's detection ahead fills the other
-      events.insert(events.end(), ccd_found_.events.begin(), ccd_found_.events.end());
     } else {
       ccd_found_.slot_t0 = slot_t0;
       ccd_found_.slot_t1 = slot_t1;
@@ -359,6 +358,8 @@ class CudaBackend final : public Backend {
     {
       const SetOnExit copying(copied);
       const auto flush_start = std::chrono::steady_clock::now();
+      // Detected ahead: the events of the chunks before the last, then the last's.
+      if (ahead) events.insert(events.end(), ccd_found_.events.begin(), ccd_found_.events.end());
       narrow_.flush_events_to(events);
       edge_narrow_.flush_events_to(events);
       narrow_seconds += seconds_since(flush_start);
@@ -591,7 +592,10 @@ class CudaBackend final : public Backend {
     }
     if (ccd_t0 >= 0) {
       ccd_ahead_ = ccd_done->get_future();
+      std::vector<Event> room = std::move(ccd_ahead_found_.events);  // kept: a large step's events fill it again
+      room.clear();
       ccd_ahead_found_ = CcdFound{};
+      ccd_ahead_found_.events = std::move(room);
       ccd_ahead_found_.slot_t0 = ccd_t0;
       ccd_ahead_found_.slot_t1 = ccd_t1;
     }
