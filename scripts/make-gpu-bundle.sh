@@ -17,9 +17,10 @@
 #   bin/          the GPU test executables, GPU benchmarks, snag-scan (when it
 #                 exists) and the device tracer (libsnag_cupti_trace, when the
 #                 toolkit has CUPTI; its libcupti comes from the GPU machine's
-#                 toolkit, and trace_summary.py goes beside gpu-check.sh), stripped; Release build in build-gpu/, OpenVDB and assimp off (the bundled
-#                 data is PLY, OBJ and PC2, which snag reads itself; assimp and
-#                 its codecs alone would take 12 MiB of the 64)
+#                 toolkit, and trace_summary.py goes beside gpu-check.sh),
+#                 stripped; Release build in build-gpu/, OpenVDB and assimp
+#                 off (the bundled data is PLY, OBJ and PC2, which snag reads
+#                 itself; assimp and its codecs alone would take 12 MiB of the 64)
 #   lib/          the shared libraries they load (from ldd), except the C library
 #                 family (libc, libm, libpthread, libdl, librt, ld-linux, ...)
 #                 and the NVIDIA driver (libcuda, libnvidia-*), which must come

@@ -1,6 +1,6 @@
 // The CUDA back end: mirrors libcd/cpu/cpu_backend.cpp stage for stage.
 //  - bind(): topology (triangles, edges) uploaded once; the device must hold
-//    it and two frames of positions, else CudaError names the bytes.
+//    it and three frames of positions, else CudaError names the bytes.
 //  - frames: three device slots, each with a pinned host mirror of what it
 //    holds. A frame already in a slot (compared by content with the mirror:
 //    the scan passes step f's x_t1 again as frame f + 1's x and step f + 1's
@@ -15,8 +15,7 @@
 //    reading the broad phase's candidates in place, the vertex-face and the
 //    edge-edge queries one after the other, each with its own buffers, so
 //    that the host copies both's events (set_defer_events) only once the
-//    device has its next work: the static detection of the step's first
-//    frame. The GPU runs the screen (early exits and the search over time)
+//    device has its next work (see overlap below). The GPU runs the screen (early exits and the search over time)
 //    and builds the hits' events (event_fields.hpp, the CPU's formulas);
 //    only the events come back to the host. The few candidates the screen
 //    leaves undecided (their events say kUncertain) get the whole test on the

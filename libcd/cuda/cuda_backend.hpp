@@ -16,7 +16,7 @@ namespace snag {
 ///   broad_phase: [in] the broad phase method (the virtual subdivision grid by
 ///     default; the largest-triangle grid and brute force for comparisons).
 /// The device is used from bind() on; bind() throws CudaError when the scene's
-/// topology and two frames do not fit in device memory (the message names the
+/// topology and three frames do not fit in device memory (the message names the
 /// bytes needed and free), and every later call throws CudaError when a CUDA
 /// call fails or a buffer cannot grow: never a partial result. Check
 /// query_cuda_device() (libcd/cuda/device.hpp) first.
