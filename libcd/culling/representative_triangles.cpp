@@ -17,15 +17,31 @@ RepresentativeTriangles assign_representative_triangles(const Scene& scene) {
   RepresentativeTriangles reps;
   reps.masks.assign(tris.size(), 0);
   reps.edge_ids.resize(tris.size());
+  // The edges are sorted by (low end, high end): those of low end v are
+  // edges [first_edge[v], first_edge[v + 1]), a few, so that each of a
+  // triangle's edges is found among its low end's (on all threads) rather
+  // than searched for among all (a large mesh has millions).
+  std::vector<std::size_t> first_edge(scene.vertex_count() + 1, 0);
+  for (const Edge& e : edges) ++first_edge[e[0] + 1];
+  for (std::size_t v = 0; v < scene.vertex_count(); ++v) first_edge[v + 1] += first_edge[v];
+  auto find_edges = [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t f = range.begin(); f < range.end(); ++f) {
+      for (int i = 0; i < 3; ++i) {
+        const Index a = tris[f][i], b = tris[f][(i + 1) % 3];
+        const Edge key{std::min(a, b), std::max(a, b)};
+        const auto from = edges.begin() + static_cast<std::ptrdiff_t>(first_edge[key[0]]);
+        const auto to = edges.begin() + static_cast<std::ptrdiff_t>(first_edge[key[0] + 1]);
+        const auto it = std::lower_bound(from, to, key);
+        assert(it != to && *it == key);
+        reps.edge_ids[f][i] = static_cast<Index>(it - edges.begin());
+      }
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tris.size(), 4096), find_edges);
   std::vector<Index> vertex_owner(scene.vertex_count(), kNone), edge_owner(edges.size(), kNone);
   for (std::size_t f = 0; f < tris.size(); ++f) {  // ascending: the first incident triangle wins
     for (int i = 0; i < 3; ++i) {
-      const Index a = tris[f][i], b = tris[f][(i + 1) % 3];
-      const Edge key{std::min(a, b), std::max(a, b)};
-      const auto it = std::lower_bound(edges.begin(), edges.end(), key);
-      assert(it != edges.end() && *it == key);
-      const Index e = static_cast<Index>(it - edges.begin());
-      reps.edge_ids[f][i] = e;
+      const Index a = tris[f][i], e = reps.edge_ids[f][i];
       if (vertex_owner[a] == kNone) {
         vertex_owner[a] = static_cast<Index>(f);
         reps.masks[f] |= std::uint8_t(1u << i);

@@ -46,6 +46,51 @@ TEST(RepresentativeTriangles, EachVertexAndEdgeHasExactlyOneRepresentative) {
   for (int n : edge_reps) EXPECT_EQ(n, 1);
 }
 
+// The rule itself, by brute force: each vertex and edge is represented by its
+// incident triangle of smallest id, on a grid whose triangles come in a
+// scrambled order (so that owners are not the first triangles of a row)
+// with a few sharing an edge three ways and a vertex in no triangle.
+TEST(RepresentativeTriangles, EachFeatureBelongsToItsIncidentTriangleOfSmallestId) {
+  constexpr Index kSide = 40;
+  std::vector<Triangle> tris;
+  for (Index j = 0; j + 1 < kSide; ++j)
+    for (Index i = 0; i + 1 < kSide; ++i) {
+      const Index v = j * kSide + i;
+      tris.push_back({v, v + 1, v + kSide + 1});
+      tris.push_back({v, v + kSide + 1, v + kSide});
+    }
+  const Index extra = kSide * kSide;  // fins on diagonals of the first row: three triangles share each
+  for (Index i = 0; i + 1 < kSide; i += 3) tris.push_back({i + kSide + 1, i, extra + i / 3});
+  const Index vertices = extra + kSide / 3 + 2;  // the last vertex is in no triangle
+  for (std::size_t k = 0; k < tris.size(); ++k) std::swap(tris[k], tris[(k * 7919) % tris.size()]);
+  for (std::size_t k = 0; k < tris.size(); k += 5) std::rotate(tris[k].begin(), tris[k].begin() + 1, tris[k].end());
+  const Scene scene({make_object("scrambled", vertices, tris)});
+  const RepresentativeTriangles reps = assign_representative_triangles(scene);
+
+  const auto& edges = scene.edges();
+  constexpr Index kNone = ~Index{0};
+  std::vector<Index> vertex_owner(scene.vertex_count(), kNone), edge_owner(edges.size(), kNone);
+  for (Index f = static_cast<Index>(tris.size()); f-- > 0;) {  // descending: the smallest id writes last
+    for (int i = 0; i < 3; ++i) {
+      const Index a = tris[f][i], b = tris[f][(i + 1) % 3];
+      vertex_owner[a] = f;
+      for (Index e = 0; e < edges.size(); ++e)
+        if (edges[e] == Edge{std::min(a, b), std::max(a, b)}) edge_owner[e] = f;
+    }
+  }
+  ASSERT_EQ(reps.masks.size(), tris.size());
+  for (Index f = 0; f < tris.size(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      const Index e = reps.edge_ids[f][i];
+      ASSERT_LT(e, edges.size());
+      const Index a = tris[f][i], b = tris[f][(i + 1) % 3];
+      EXPECT_EQ(edges[e], (Edge{std::min(a, b), std::max(a, b)}));
+      EXPECT_EQ((reps.masks[f] >> i) & 1u, vertex_owner[a] == f ? 1u : 0u) << "triangle " << f << " corner " << i;
+      EXPECT_EQ((reps.masks[f] >> (3 + i)) & 1u, edge_owner[e] == f ? 1u : 0u) << "triangle " << f << " edge " << i;
+    }
+  EXPECT_EQ(vertex_owner.back(), kNone);
+}
+
 TEST(RepresentativeTriangles, AllTrianglePairsGiveEveryFeaturePairOnce) {
   std::vector<Vec3> x;
   const Scene scene = small_scene(x);
