@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <future>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -134,11 +135,15 @@ int scan(const snag::tools::CacheArguments& cache, const snag::tools::RuleArgume
     throw snag::UsageError("--json and --report - both write to standard output: give the report a file");
   }
   const snag::tools::ScanSetup setup = snag::tools::resolve_scan_setup(cache, rule_arguments, thickness_option);
+  // The back end is made while the cache is opened: a GPU's context takes a
+  // few hundred milliseconds to start. Its errors come after the cache's,
+  // as they would one after the other.
+  auto making_backend = std::async(std::launch::async, [&] { return choose_backend(options.backend, options.grid); });
   auto source = snag::io::open_cache(setup.cache);
   const snag::Scene& scene = source->scene();
   check_object_names(scene);
   const snag::report::RuleSet rules(scene, setup.rules, setup.thickness);
-  auto backend = choose_backend(options.backend, options.grid);
+  auto backend = making_backend.get();
 
   snag::BackendSettings backend_settings;
   backend_settings.lambda = options.lambda;

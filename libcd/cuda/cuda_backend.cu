@@ -269,6 +269,9 @@ class CudaBackend final : public Backend {
     broad.threads = settings.threads;
     ccd_broad_ = CudaBroadPhase::create(method_);
     static_broad_ = CudaBroadPhase::create(method_);
+    // On the streams their detections run on: the topology is uploaded once.
+    ccd_broad_->set_stream(compute_.get());
+    static_broad_->set_stream(static_stream_.get());
     ccd_broad_->build(scene, broad);
     BroadPhaseSettings static_settings = broad;
     static_settings.thickness = 0;

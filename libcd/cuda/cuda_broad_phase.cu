@@ -83,6 +83,14 @@ void CudaBroadPhase::build(const Scene& scene, const BroadPhaseSettings& setting
   use_stream(stream_);
 }
 
+void CudaBroadPhase::set_stream(cudaStream_t stream) {
+  if (buffers_ == nullptr) {
+    stream_ = stream;
+  } else {
+    use_stream(stream);
+  }
+}
+
 void CudaBroadPhase::use_stream(cudaStream_t stream) {
   if (buffers_ != nullptr && stream == stream_) return;
   if (buffers_ != nullptr) SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));

@@ -66,6 +66,10 @@ class CudaBroadPhase final : public BroadPhase {
   /// For kVirtualSubdivisionGrid, kLargestTriangleGrid or kAdaptiveGrid; UsageError for the others.
   static std::unique_ptr<CudaBroadPhase> create(BroadPhaseMethod method);
 
+  /// The stream its detections run on. Given before build(), build() makes
+  /// its buffers and uploads the topology on it, once; a detection on another
+  /// stream makes them again, on that one (the default stream until then).
+  void set_stream(cudaStream_t stream);
   /// As VirtualSubdivisionGrid::build; uploads topology and representatives.
   /// Throws UsageError for bad settings, CudaError when a CUDA call fails.
   void build(const Scene& scene, const BroadPhaseSettings& settings) override;
