@@ -360,8 +360,14 @@ class CudaBackend final : public Backend {
     {
       const SetOnExit copying(copied);
       const auto flush_start = std::chrono::steady_clock::now();
-      // Detected ahead: the events of the chunks before the last, then the last's.
-      if (ahead) events.insert(events.end(), ccd_found_.events.begin(), ccd_found_.events.end());
+      // Detected ahead: the events of the chunks before the last, then the
+      // last's. An empty list (the scan's) trades places with them instead
+      // of taking a copy; its room goes to a later step's work ahead.
+      if (ahead && events.empty()) {
+        std::swap(events, ccd_found_.events);
+      } else if (ahead) {
+        append_events(events, ccd_found_.events.data(), ccd_found_.events.size());
+      }
       narrow_.flush_events_to(events);
       edge_narrow_.flush_events_to(events);
       narrow_seconds += seconds_since(flush_start);
