@@ -42,7 +42,7 @@ def measure(args, label, exe, limit):
             if limit != "default":
                 command += ["--device-memory", limit]
             try:
-                _, device = run_scan(command, sample_device=frames == args.frames)
+                _, device, _ = run_scan(command, sample_device=frames == args.frames)
             except SystemExit as failure:  # run_scan exits on a failed scan: a row that says so
                 return {"label": label, "limit": limit, "failed": str(failure)}
             t = trailer(path)

@@ -16,6 +16,12 @@ on a thread of its own beside the scan); "other" is the rest of the total
 scan waited for). "back end" is the sum of the back end's stages: what a
 benchmark of the back end alone measures, from the same run.
 
+What the user waits for in all: "wall" is the long run's whole time, from
+starting snag-scan to its exit, and "outside" the part of it the report's
+timing.total leaves out (opening the cache and reading its topology,
+starting the device and binding the back end, writing the report's end,
+exiting), in ms, which the time per step does not show.
+
 Memory: the host's peak resident size (wait4) of the long run, the broad
 phase's own peak (stages.*.peak_memory_bytes), and on a GPU the largest device
 memory in use during the long run (nvidia-smi sampled every 20 ms, less what
@@ -101,17 +107,19 @@ class DeviceMemorySampler:
 
 
 def run_scan(command, sample_device=False):
-    """Runs snag-scan; returns (peak host RSS MiB, peak device MiB or None)."""
+    """Runs snag-scan; returns (peak host RSS MiB, peak device MiB or None, wall seconds)."""
     sampler = DeviceMemorySampler() if sample_device else None
     with tempfile.TemporaryFile(mode="w+") as err:
+        start = time.perf_counter()
         process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=err)
         _, status, usage = os.wait4(process.pid, 0)
+        wall = time.perf_counter() - start
         code = os.waitstatus_to_exitcode(status)
         device = sampler.stop() if sampler else None
         if code not in (0, 1):  # 1: the scan found what fails it, which is not an error here
             err.seek(0)
             sys.exit(f"scan_bench: {' '.join(command)} failed ({code}): {err.read().strip()}")
-    return usage.ru_maxrss / 1024, device
+    return usage.ru_maxrss / 1024, device, wall
 
 
 def stage_seconds(t):
@@ -186,17 +194,20 @@ def measure(args, scene, mode, grid, work):
     long_frames = args.frames if scene.frame_count is None else min(args.frames, scene.frame_count)
     per_step = {k: [] for k in STAGES + ["report", "total"]}
     host_peak, device_peak, broad_peak, events, stages = [], [], 0.0, 0, {}
+    walls, outside = [], []
     for run in range(args.runs):
         totals = {}
         for frames in (2, long_frames):
             path = os.path.join(work, f"{scene.name}_{mode}_{grid}_{frames}.jsonl")
-            rss, device = run_scan([args.scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "--grid", grid,
+            rss, device, wall = run_scan([args.scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "--grid", grid,
                                     "-q", "-r", path],
                                    sample_device=frames == long_frames and args.backend == "cuda")
             t = trailer(path)
             totals[frames] = stage_seconds(t)
             if frames == long_frames:
                 host_peak.append(rss)
+                walls.append(wall)
+                outside.append(wall - totals[frames]["total"])
                 if device is not None:
                     device_peak.append(device)
                 broad_peak = max(broad_peak, broad_peak_mib(t))
@@ -211,7 +222,8 @@ def measure(args, scene, mode, grid, work):
     row.update({"scene": scene.name, "mode": mode, "grid": grid, "triangles": scene.triangles, "frames": long_frames,
                 "runs": args.runs, "events_long": events, "host_peak_mib": max(host_peak),
                 "device_peak_mib": max(device_peak) if device_peak else None, "broad_peak_mib": broad_peak,
-                "total_spread_ms": [min(per_step["total"]), max(per_step["total"])], "stages": stages})
+                "total_spread_ms": [min(per_step["total"]), max(per_step["total"])], "stages": stages,
+                "wall_s": statistics.median(walls), "outside_ms": 1e3 * statistics.median(outside)})
     return row
 
 
@@ -265,7 +277,7 @@ def main():
         parser.error("--grids takes uniform and adaptive")
     header = (f"{'scene':<15} {'mode':<4} {'grid':<8} {'total':>8} {'backend':>8} {'read':>6} {'ccd bp':>7} {'ccd np':>7} "
               f"{'certif':>7} {'st bp':>7} {'st np':>7} {'report':>7} {'rep wait':>8} {'other':>7} {'dev MiB':>8} {'bp MiB':>7} "
-              f"{'host MiB':>8}")
+              f"{'host MiB':>8} {'wall s':>7} {'outside':>7}")
     print(header)
     for name in args.scenes.split(","):
         if name not in scenes:
@@ -279,7 +291,8 @@ def main():
                 print(f"{name:<15} {mode:<4} {grid:<8} {row['total']:>8.2f} {row['backend']:>8.2f} {row['read']:>6.2f} "
                       f"{row['ccd_broad']:>7.2f} {row['ccd_narrow']:>7.2f} {row['certification']:>7.2f} "
                       f"{row['static_broad']:>7.2f} {row['static_narrow']:>7.2f} {row['report']:>7.2f} {row['report_wait']:>8.2f} "
-                      f"{row['other']:>7.2f} {device:>8} {row['broad_peak_mib']:>7.0f} {row['host_peak_mib']:>8.0f}",
+                      f"{row['other']:>7.2f} {device:>8} {row['broad_peak_mib']:>7.0f} {row['host_peak_mib']:>8.0f} "
+                      f"{row['wall_s']:>7.2f} {row['outside_ms']:>7.0f}",
                       flush=True)
     if args.check_cpu and args.backend != "cpu":
         print(f"== same events as the CPU back end (first step, every event listed)")
