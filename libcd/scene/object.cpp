@@ -5,16 +5,34 @@
 
 namespace snag {
 
+// Each triangle side as (low end, high end), sorted, repeats kept: counted
+// into one run per low end, then each run (a vertex's few edges) sorted by
+// the high end, which takes linear time where a sort of all the sides (a
+// large mesh has millions) took most of opening the mesh.
 static std::vector<Edge> triangle_edges_with_repeats(const std::vector<Triangle>& triangles) {
-  std::vector<Edge> edges;
-  edges.reserve(triangles.size() * 3);
+  Index lows = 0;
+  for (const Triangle& t : triangles) lows = std::max({lows, t[0], t[1], t[2]});
+  std::vector<std::size_t> run(triangles.empty() ? 1 : std::size_t{lows} + 2, 0);  // run[v + 1]: sides of low end v
+  auto side = [](const Triangle& t, int k) {
+    const Index a = t[k], b = t[(k + 1) % 3];
+    return a < b ? Edge{a, b} : Edge{b, a};
+  };
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) ++run[side(t, k)[0] + std::size_t{1}];
+  for (std::size_t v = 1; v < run.size(); ++v) run[v] += run[v - 1];
+  std::vector<Edge> edges(triangles.size() * 3);
+  std::vector<std::size_t> next(run.begin(), run.end() - 1);
   for (const Triangle& t : triangles) {
     for (int k = 0; k < 3; ++k) {
-      Index a = t[k], b = t[(k + 1) % 3];
-      edges.push_back(a < b ? Edge{a, b} : Edge{b, a});
+      const Edge e = side(t, k);
+      edges[next[e[0]]++] = e;
     }
   }
-  std::sort(edges.begin(), edges.end());
+  for (std::size_t v = 0; v + 1 < run.size(); ++v) {
+    std::sort(edges.begin() + static_cast<std::ptrdiff_t>(run[v]),
+              edges.begin() + static_cast<std::ptrdiff_t>(run[v + 1]),
+              [](const Edge& x, const Edge& y) { return x[1] < y[1]; });
+  }
   return edges;
 }
 
