@@ -109,6 +109,7 @@ TEST(ExactTriangleIntersection, MatchesSelfIntersectionsOnFoldedCloth) {
   // fold over shared edges and vertices, often coplanar) or thrown off
   // through the cloth.
   const Mesh original = read_mesh("thick-cloth/t0.ply");
+  ASSERT_GT(original.number_of_vertices(), 0u);  // a mesh that could not be read fails here, not in the draws below
   std::mt19937 rng(2024);
   std::uniform_int_distribution<std::size_t> vertex(0, original.number_of_vertices() - 1);
   std::uniform_real_distribution<double> unit(-1, 1);
