@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -134,6 +135,7 @@ int scan(const snag::tools::CacheArguments& cache, const snag::tools::RuleArgume
   if (options.json && options.report == "-") {
     throw snag::UsageError("--json and --report - both write to standard output: give the report a file");
   }
+  const auto begun = std::chrono::steady_clock::now();
   const snag::tools::ScanSetup setup = snag::tools::resolve_scan_setup(cache, rule_arguments, thickness_option);
   // The back end is made while the cache is opened: a GPU's context takes a
   // few hundred milliseconds to start. Its errors come after the cache's,
@@ -210,6 +212,7 @@ int scan(const snag::tools::CacheArguments& cache, const snag::tools::RuleArgume
   snag::report::ReportSink sink(scene, header, rules, writer.get(), redecide);
   std::string stages, timing;
   double seconds = 0;
+  const double start_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begun).count();
   if (!run) {
     const snag::ScanTotals totals = snag::scan_cache(*source, *backend, scan, sink, progress);
     stages = snag::tools::stages_json(totals);
@@ -224,6 +227,7 @@ int scan(const snag::tools::CacheArguments& cache, const snag::tools::RuleArgume
     seconds = merged.total_seconds;
   }
 #endif
+  timing = snag::tools::with_start_seconds(timing, start_seconds);
   const snag::report::Trailer& trailer = sink.finish(stages, timing);
   if (report_file) report_file->commit();
 

@@ -20,7 +20,8 @@ What the user waits for in all: "wall" is the long run's whole time, from
 starting snag-scan to its exit, and "outside" the part of it the report's
 timing.total leaves out (opening the cache and reading its topology,
 starting the device and binding the back end, writing the report's end,
-exiting), in ms, which the time per step does not show.
+exiting), in ms, which the time per step does not show; "start" is the part
+before the scan (the report's timing.start).
 
 Memory: the host's peak resident size (wait4) of the long run, the broad
 phase's own peak (stages.*.peak_memory_bytes), and on a GPU the largest device
@@ -194,7 +195,7 @@ def measure(args, scene, mode, grid, work):
     long_frames = args.frames if scene.frame_count is None else min(args.frames, scene.frame_count)
     per_step = {k: [] for k in STAGES + ["report", "total"]}
     host_peak, device_peak, broad_peak, events, stages = [], [], 0.0, 0, {}
-    walls, outside = [], []
+    walls, outside, starts = [], [], []
     for run in range(args.runs):
         totals = {}
         for frames in (2, long_frames):
@@ -208,6 +209,7 @@ def measure(args, scene, mode, grid, work):
                 host_peak.append(rss)
                 walls.append(wall)
                 outside.append(wall - totals[frames]["total"])
+                starts.append(t["timing"].get("start", 0.0))
                 if device is not None:
                     device_peak.append(device)
                 broad_peak = max(broad_peak, broad_peak_mib(t))
@@ -223,7 +225,8 @@ def measure(args, scene, mode, grid, work):
                 "runs": args.runs, "events_long": events, "host_peak_mib": max(host_peak),
                 "device_peak_mib": max(device_peak) if device_peak else None, "broad_peak_mib": broad_peak,
                 "total_spread_ms": [min(per_step["total"]), max(per_step["total"])], "stages": stages,
-                "wall_s": statistics.median(walls), "outside_ms": 1e3 * statistics.median(outside)})
+                "wall_s": statistics.median(walls), "outside_ms": 1e3 * statistics.median(outside),
+                "start_ms": 1e3 * statistics.median(starts)})
     return row
 
 
@@ -277,7 +280,7 @@ def main():
         parser.error("--grids takes uniform and adaptive")
     header = (f"{'scene':<15} {'mode':<4} {'grid':<8} {'total':>8} {'backend':>8} {'read':>6} {'ccd bp':>7} {'ccd np':>7} "
               f"{'certif':>7} {'st bp':>7} {'st np':>7} {'report':>7} {'rep wait':>8} {'other':>7} {'dev MiB':>8} {'bp MiB':>7} "
-              f"{'host MiB':>8} {'wall s':>7} {'outside':>7}")
+              f"{'host MiB':>8} {'wall s':>7} {'outside':>7} {'start':>6}")
     print(header)
     for name in args.scenes.split(","):
         if name not in scenes:
@@ -292,7 +295,7 @@ def main():
                       f"{row['ccd_broad']:>7.2f} {row['ccd_narrow']:>7.2f} {row['certification']:>7.2f} "
                       f"{row['static_broad']:>7.2f} {row['static_narrow']:>7.2f} {row['report']:>7.2f} {row['report_wait']:>8.2f} "
                       f"{row['other']:>7.2f} {device:>8} {row['broad_peak_mib']:>7.0f} {row['host_peak_mib']:>8.0f} "
-                      f"{row['wall_s']:>7.2f} {row['outside_ms']:>7.0f}",
+                      f"{row['wall_s']:>7.2f} {row['outside_ms']:>7.0f} {row['start_ms']:>6.0f}",
                       flush=True)
     if args.check_cpu and args.backend != "cpu":
         print(f"== same events as the CPU back end (first step, every event listed)")

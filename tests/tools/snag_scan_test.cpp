@@ -126,6 +126,11 @@ TEST(SnagScan, ReportHasTheDocumentedTopLevelKeys) {
     EXPECT_TRUE(report["trailer"].contains(key)) << key;
   }
   EXPECT_EQ(report["header"]["format"], "snag-report");
+  // What the user waited for before the scan, and the scan, within the run's wall time.
+  const json& timing = report["trailer"]["timing"];
+  ASSERT_TRUE(timing.contains("start") && timing["start"].is_number());
+  EXPECT_GT(timing["start"].get<double>(), 0.0);
+  EXPECT_LT(timing["start"].get<double>() + timing["total"].get<double>(), window_scan().process.seconds);
   EXPECT_EQ(report["version"], 2);
   EXPECT_EQ(report["header"]["frame_count"], 3u);
   EXPECT_EQ(report["frames"].size(), 3u);

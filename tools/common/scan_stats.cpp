@@ -88,4 +88,10 @@ std::string timing_json(const ScanTotals& totals) {
   return timing.dump();
 }
 
+std::string with_start_seconds(const std::string& timing, double start_seconds) {
+  json object = json::parse(timing);
+  object["start"] = start_seconds;
+  return object.dump();
+}
+
 }  // namespace snag::tools

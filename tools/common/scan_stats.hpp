@@ -12,5 +12,8 @@ namespace snag::tools {
 std::string stages_json(const ScanTotals& totals);
 /// The "timing" object: seconds per stage, reading and writing included.
 std::string timing_json(const ScanTotals& totals);
+/// `timing` (a "timing" object) with "start": the seconds the tool took
+/// before the scan (opening the cache, making the back end and binding it).
+std::string with_start_seconds(const std::string& timing, double start_seconds);
 
 }  // namespace snag::tools
