@@ -175,13 +175,13 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
       if (i + 1 < frame_count) read_ahead(i + 1);
     };
     if (frame_count > 0) {
+      // Frame 1 is read on the reading thread while frame 0 is read here.
+      const bool step = frame_count > 1 && detect;
+      if (step) read_ahead(1);
       const auto read_start = Clock::now();
       source.read_frame(0, frames[0]);
       totals.read_seconds += seconds_since(read_start);
-      if (frame_count > 1 && detect) {
-        read_ahead(1);
-        take_read(1);
-      }
+      if (step) take_read(1);
     }
     for (std::size_t f = 0; f < frame_count; ++f) {
       const std::vector<Vec3>& current = frames[f % kFrameBuffers];
