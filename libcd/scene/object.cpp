@@ -10,9 +10,9 @@ namespace snag {
 // the high end, which takes linear time where a sort of all the sides (a
 // large mesh has millions) took most of opening the mesh.
 static std::vector<Edge> triangle_edges_with_repeats(const std::vector<Triangle>& triangles) {
-  Index lows = 0;
-  for (const Triangle& t : triangles) lows = std::max({lows, t[0], t[1], t[2]});
-  std::vector<std::size_t> run(triangles.empty() ? 1 : std::size_t{lows} + 2, 0);  // run[v + 1]: sides of low end v
+  Index highest = 0;  // corner
+  for (const Triangle& t : triangles) highest = std::max({highest, t[0], t[1], t[2]});
+  std::vector<std::size_t> run(triangles.empty() ? 1 : std::size_t{highest} + 2, 0);  // run[v + 1]: sides of low end v
   auto side = [](const Triangle& t, int k) {
     const Index a = t[k], b = t[(k + 1) % 3];
     return a < b ? Edge{a, b} : Edge{b, a};
