@@ -15,9 +15,10 @@
 //    reading the broad phase's candidates in place, the vertex-face and the
 //    edge-edge queries one after the other, each with its own buffers, so
 //    that the host copies both's events (set_defer_events) only once the
-//    device has its next work (see overlap below). The GPU runs the screen (early exits and the search over time)
-//    and builds the hits' events (event_fields.hpp, the CPU's formulas);
-//    only the events come back to the host. The few candidates the screen
+//    device has its next work (see overlap below). The GPU runs the screen
+//    (early exits and the search over time) and builds the hits' events
+//    (event_fields.hpp, the CPU's formulas); only the events come back to
+//    the host. The few candidates the screen
 //    leaves undecided (their events say kUncertain) get the whole test on the
 //    CPU (settle_collision_events), where one long (t, u, v) search does not
 //    hold up a kernel.
