@@ -52,6 +52,16 @@ struct IsolatedQuery {
 // The refine kernel's blocks per multiprocessor: it strides over the
 // isolated queries, whose count only the device knows.
 constexpr int kRefineBlocksPerSm = 8;
+// The quick kernel's resident blocks per multiprocessor (its launch bound:
+// 168 registers a thread, at most 0.3 kB of spills); its lanes take queries
+// until none is left.
+constexpr int kQuickBlocksPerSm = 3;
+
+constexpr unsigned kFullWarp = 0xffffffffu;
+// The quick kernel's lanes whose searches ended take new queries together,
+// once this many of a warp's lanes are idle: a query's start (its points,
+// the decisions by structure, the cubic) then runs on many lanes at once.
+constexpr int kRefillLanes = 16;
 
 // The flag of a decided screen result.
 __device__ unsigned char screened(const CcdResult& result) {
@@ -61,6 +71,7 @@ __device__ unsigned char screened(const CcdResult& result) {
 // A vertex-face query: candidate i's eight points and the two CCD functions.
 struct VertexFaceQuery {
   using Candidate = VertexFaceCandidate;
+  using Contact = ccd_detail::VertexFaceContact;
   const Vec3* __restrict__ x_t0;
   const Vec3* __restrict__ x_t1;
   const Index* __restrict__ corners;
@@ -80,12 +91,15 @@ struct VertexFaceQuery {
     points(i, x);
     return vertex_face_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
+  __device__ Contact contact(std::uint32_t i) const {
+    Contact contact;
+    points(i, contact.points);
+    return contact;
+  }
   // For a query whose early exits decided nothing.
-  __device__ ccd_detail::TimeSearchEnd quick(std::uint32_t i, const CcdSettings& settings,
-                                             ccd_detail::IsolatedTimeInterval* isolated, CcdResult* result) const {
-    Vec3 x[8];
-    points(i, x);
-    return vertex_face_quick_isolating(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, isolated, result);
+  __device__ bool quick_start(const Contact& contact, const CcdSettings& settings, ccd_detail::TimeSearchState* search,
+                              ccd_detail::TimeSearchEnd* end, CcdResult* result) const {
+    return vertex_face_quick_start(contact, settings, search, end, result);
   }
   // For a query whose quick part isolated its earliest contact's interval.
   __device__ bool refine(std::uint32_t i, const ccd_detail::IsolatedTimeInterval& isolated, const CcdSettings& settings,
@@ -109,6 +123,7 @@ struct VertexFaceQuery {
 // An edge-edge query.
 struct EdgeEdgeQuery {
   using Candidate = EdgeEdgeCandidate;
+  using Contact = ccd_detail::EdgeEdgeContact;
   const Vec3* __restrict__ x_t0;
   const Vec3* __restrict__ x_t1;
   const Index* __restrict__ ends;
@@ -128,12 +143,15 @@ struct EdgeEdgeQuery {
     points(i, x);
     return edge_edge_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
+  __device__ Contact contact(std::uint32_t i) const {
+    Contact contact;
+    points(i, contact.points);
+    return contact;
+  }
   // For a query whose early exits decided nothing.
-  __device__ ccd_detail::TimeSearchEnd quick(std::uint32_t i, const CcdSettings& settings,
-                                             ccd_detail::IsolatedTimeInterval* isolated, CcdResult* result) const {
-    Vec3 x[8];
-    points(i, x);
-    return edge_edge_quick_isolating(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, isolated, result);
+  __device__ bool quick_start(const Contact& contact, const CcdSettings& settings, ccd_detail::TimeSearchState* search,
+                              ccd_detail::TimeSearchEnd* end, CcdResult* result) const {
+    return edge_edge_quick_start(contact, settings, search, end, result);
   }
   // For a query whose quick part isolated its earliest contact's interval.
   __device__ bool refine(std::uint32_t i, const ccd_detail::IsolatedTimeInterval& isolated, const CcdSettings& settings,
@@ -169,41 +187,79 @@ __global__ void __launch_bounds__(kBlockSize, 4)
   flags[i] = !decided ? kUndecided : screened(result);
 }
 
-// The screen, step 2: thread k takes candidate subset[k] and, when step 1
-// left it undecided, runs the rest of the quick part on it (the decisions by
-// structure and the time search; its early exits decided nothing), updating
-// its result and flag in place. A search that isolates its earliest contact
-// (a hit, nearly always) stops there and is appended to `isolated` (room for
-// `count`; *isolated_count counts them), flagged kIsolated: the halvings
+// The screen, step 2: the candidates subset[k], k < count, that step 1 left
+// undecided get the rest of the quick part (the decisions by structure and
+// the time search; their early exits decided nothing), which updates their
+// result and flag in place. A search that isolates its earliest contact (a
+// hit, nearly always) stops there and is appended to `isolated` (room for
+// `count`; counts[1] counts them), flagged kIsolated: the halvings
 // down to the time tolerance, the longest part of a hit's search, run in
-// ccd_refine_kernel with every lane of a warp on a hit, instead of holding
-// the warp while its other lanes, ruled out in a few levels, wait.
+// ccd_refine_kernel with every lane of a warp on a hit.
+//
+// The searches take from 3 to some 60 intervals, so a lane does not hold
+// one query: each lane advances its search one interval at a time, and once
+// kRefillLanes lanes of a warp have ended theirs, they take the next queries
+// (counts[0] counts the queries taken, one atomic per warp), so that a warp
+// is not held by its longest search while its other lanes wait. Launched
+// with at most the blocks that are resident at once (kQuickBlocksPerSm per
+// multiprocessor).
 template <class Query>
-__global__ void __launch_bounds__(kBlockSize, 3)
+__global__ void __launch_bounds__(kBlockSize, kQuickBlocksPerSm)
     ccd_quick_kernel(Query query, const std::uint32_t* __restrict__ subset, std::size_t count, CcdSettings settings,
                      CcdResult* __restrict__ results, unsigned char* __restrict__ flags,
-                     IsolatedQuery* __restrict__ isolated, unsigned int* __restrict__ isolated_count) {
-  const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
-  if (k >= count) return;
-  const std::uint32_t i = subset[k];
-  if (flags[i] != kUndecided) return;
-  CcdResult result;
-  ccd_detail::IsolatedTimeInterval interval;
-  const ccd_detail::TimeSearchEnd end = query.quick(i, settings, &interval, &result);
-  if (end == ccd_detail::TimeSearchEnd::kIsolated) {
-    // One atomic per group of lanes that isolate together.
-    const unsigned active = __activemask();
-    const unsigned lane = threadIdx.x & 31u;
-    const int leader = __ffs(active) - 1;
-    unsigned int base = 0;
-    if (static_cast<int>(lane) == leader) base = atomicAdd(isolated_count, static_cast<unsigned int>(__popc(active)));
-    base = __shfl_sync(active, base, leader);
-    isolated[base + __popc(active & ((1u << lane) - 1u))] = IsolatedQuery{i, interval};
-    flags[i] = kIsolated;
-    return;
+                     IsolatedQuery* __restrict__ isolated, unsigned long long* __restrict__ counts) {
+  unsigned long long *taken = &counts[0], *isolated_count = &counts[1];
+  const unsigned lane = threadIdx.x & 31u, lanes_below = (1u << lane) - 1u;
+  typename Query::Contact contact;
+  ccd_detail::TimeSearchState search;
+  ccd_detail::PendingTimeInterval stack[ccd_detail::kTimeSearchStack];
+  std::uint32_t i = 0;
+  bool searching = false, drained = false;
+  for (;;) {
+    ccd_detail::TimeSearchEnd end = ccd_detail::TimeSearchEnd::kGaveUp;
+    CcdResult result;
+    ccd_detail::IsolatedTimeInterval interval;
+    bool ended = false;
+    const unsigned idle = __ballot_sync(kFullWarp, !searching);
+    if (!drained && (idle == kFullWarp || __popc(idle) >= kRefillLanes)) {
+      const int leader = __ffs(idle) - 1;
+      unsigned long long first = 0;
+      if (static_cast<int>(lane) == leader) first = atomicAdd(taken, static_cast<unsigned long long>(__popc(idle)));
+      first = __shfl_sync(kFullWarp, first, leader);
+      drained = first + __popc(idle) >= count;
+      const unsigned long long k = first + __popc(idle & lanes_below);
+      if (!searching && k < count) {
+        i = subset[k];
+        if (flags[i] == kUndecided) {
+          contact = query.contact(i);
+          searching = query.quick_start(contact, settings, &search, &end, &result);
+          ended = !searching;
+        }
+      }
+    } else if (idle == kFullWarp) {
+      return;  // every query taken and searched
+    }
+    if (searching) {
+      ended =
+          ccd_detail::advance_time_search(contact, settings.time_tolerance, &interval, &search, stack, &result, &end);
+      searching = !ended;
+    }
+    if (!ended) continue;
+    if (end == ccd_detail::TimeSearchEnd::kIsolated) {
+      // One atomic per group of lanes that isolate together.
+      const unsigned active = __activemask();
+      const int leader = __ffs(active) - 1;
+      unsigned long long base = 0;
+      if (static_cast<int>(lane) == leader)
+        base = atomicAdd(isolated_count, static_cast<unsigned long long>(__popc(active)));
+      base = __shfl_sync(active, base, leader);
+      isolated[base + __popc(active & lanes_below)] = IsolatedQuery{i, interval};
+      flags[i] = kIsolated;
+      continue;
+    }
+    results[i] = result;
+    flags[i] = end == ccd_detail::TimeSearchEnd::kDecided ? screened(result) : kUndecided;
   }
-  results[i] = result;
-  flags[i] = end == ccd_detail::TimeSearchEnd::kDecided ? screened(result) : kUndecided;
 }
 
 // The rest of the time search of the queries the quick kernel isolated,
@@ -212,7 +268,7 @@ __global__ void __launch_bounds__(kBlockSize, 3)
 template <class Query>
 __global__ void __launch_bounds__(kBlockSize)
     ccd_refine_kernel(Query query, const IsolatedQuery* __restrict__ isolated,
-                      const unsigned int* __restrict__ isolated_count, CcdSettings settings,
+                      const unsigned long long* __restrict__ isolated_count, CcdSettings settings,
                       CcdResult* __restrict__ results, unsigned char* __restrict__ flags) {
   const std::size_t count = *isolated_count;
   for (std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x; k < count;
@@ -340,19 +396,20 @@ CudaNarrowPhase::CudaNarrowPhase(cudaStream_t stream)
       selected_results_(0, stream),
       selected_count_(1, stream),
       counters_(2, stream),
-      isolated_count_(1, stream),
+      quick_counts_(2, stream),
       temp_(0, stream),
       gathered_(0, stream) {
   int device = 0, multiprocessors = 0;
   SNAG_CUDA_CHECK(cudaGetDevice(&device));
   SNAG_CUDA_CHECK(cudaDeviceGetAttribute(&multiprocessors, cudaDevAttrMultiProcessorCount, device));
   refine_block_limit_ = static_cast<unsigned int>(std::max(1, multiprocessors * kRefineBlocksPerSm));
+  quick_block_limit_ = static_cast<unsigned int>(std::max(1, multiprocessors * kQuickBlocksPerSm));
 }
 
 std::size_t CudaNarrowPhase::held_bytes() const {
   return results_.capacity_bytes() + searched_results_.capacity_bytes() + flags_.capacity_bytes() +
          searched_flags_.capacity_bytes() + selected_.capacity_bytes() + selected_results_.capacity_bytes() +
-         selected_count_.capacity_bytes() + counters_.capacity_bytes() + isolated_count_.capacity_bytes() +
+         selected_count_.capacity_bytes() + counters_.capacity_bytes() + quick_counts_.capacity_bytes() +
          temp_.capacity_bytes() + gathered_.capacity_bytes();
 }
 
@@ -464,14 +521,14 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
       IsolatedQuery* isolated = gathered_as<IsolatedQuery>(slice, "isolated CCD queries");
       for (std::size_t at = 0; at < survivors; at += slice) {
         const std::size_t n = std::min(slice, survivors - at);
-        isolated_count_.fill_zero();
-        ccd_quick_kernel<<<blocks_for(n), kBlockSize, 0, stream_>>>(query, selected_.data() + at, n, settings,
-                                                                    results_.data(), flags_.data(), isolated,
-                                                                    isolated_count_.data());
+        quick_counts_.fill_zero();
+        const unsigned int quick_blocks = std::min(blocks_for(n), quick_block_limit_);
+        ccd_quick_kernel<<<quick_blocks, kBlockSize, 0, stream_>>>(
+            query, selected_.data() + at, n, settings, results_.data(), flags_.data(), isolated, quick_counts_.data());
         SNAG_CUDA_CHECK_LAUNCH();
         const unsigned int refine_blocks = std::min(blocks_for(n), refine_block_limit_);
-        ccd_refine_kernel<<<refine_blocks, kBlockSize, 0, stream_>>>(query, isolated, isolated_count_.data(), settings,
-                                                                     results_.data(), flags_.data());
+        ccd_refine_kernel<<<refine_blocks, kBlockSize, 0, stream_>>>(query, isolated, quick_counts_.data() + 1,
+                                                                     settings, results_.data(), flags_.data());
         SNAG_CUDA_CHECK_LAUNCH();
       }
       if (!search) {

@@ -160,6 +160,10 @@ class CudaNarrowPhase {
   /// round, not by the candidate count. Results do not depend on it.
   void set_chunk_size(std::size_t candidates) { chunk_size_ = candidates > 0 ? candidates : 1; }
   static constexpr std::size_t kDefaultChunkSize = std::size_t{1} << 24;
+  /// The most blocks the screen's time search runs (default: as many as are
+  /// resident at once). Its lanes take the queries one after another, so
+  /// results do not depend on it; a test can make every lane take many.
+  void set_quick_block_limit(unsigned int blocks) { quick_block_limit_ = blocks > 0 ? blocks : 1; }
   /// Device bytes a round holds per CCD candidate (screen only: result,
   /// flag, index, compacted result, gathered candidate) and per static pair
   /// (flag, index, gathered pair), scratch included. Events built on the
@@ -228,7 +232,7 @@ class CudaNarrowPhase {
   DeviceBuffer<CcdResult> selected_results_;
   DeviceBuffer<long long> selected_count_;
   DeviceBuffer<unsigned long long> counters_;
-  DeviceBuffer<unsigned int> isolated_count_;  ///< the quick kernel's isolated queries
+  DeviceBuffer<unsigned long long> quick_counts_;  ///< the quick kernel's queries taken and queries isolated
   DeviceBuffer<unsigned char> temp_;
   DeviceBuffer<unsigned char> gathered_;  ///< stage_selected's device staging, any item type
   // Pinned host copies of a round's results, reused from call to call.
@@ -241,6 +245,7 @@ class CudaNarrowPhase {
   NarrowPhaseTimings timings_;
   std::size_t chunk_size_ = kDefaultChunkSize;
   unsigned int refine_block_limit_ = 1;  ///< the refine kernel's blocks: kRefineBlocksPerSm per multiprocessor
+  unsigned int quick_block_limit_ = 1;   ///< the quick kernel's blocks: kQuickBlocksPerSm per multiprocessor
 };
 
 /// Resizes `buffer` to `count`; when the device cannot hold it, throws

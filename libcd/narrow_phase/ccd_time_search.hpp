@@ -107,6 +107,120 @@ enum class TimeSearchEnd : uint8_t {
   kIsolated,  ///< *isolated holds the interval to refine (time_search_isolated)
 };
 
+/// A time search in progress (time_search_from), advanced one interval at
+/// a time by advance_time_search: `node` is the interval it examines next,
+/// the `examined`-th; `last` is g's coefficient at the upper end of the
+/// whole search; the search's stack (kTimeSearchStack entries, kept apart so
+/// that the state can stay in registers) holds the `pending` later halves
+/// still to visit. The GPU kernels advance one search per lane and start
+/// another search on a lane whose search ended, so that a long search does
+/// not hold its warp.
+struct TimeSearchState {
+  TimeInterval node;
+  Interval last;
+  int examined;
+  int pending;
+  bool subtree;
+};
+
+/// Entries of a time search's stack: one per level.
+constexpr int kTimeSearchStack = kMaxTimeLevel + 1;
+
+/// The state of a search from `node` (see time_search_from).
+SNAG_HD_INLINE void start_time_search(TimeInterval node, Interval last, int examined, bool subtree,
+                                      TimeSearchState* state) {
+  state->node = node;
+  state->last = last;
+  state->examined = examined;
+  state->pending = 0;
+  state->subtree = subtree;
+}
+
+/// Examines the search's current interval: true with *end (and *result or
+/// *isolated, as time_search_from sets them) when the search ends there,
+/// else false with `state` moved on to the next interval.
+template <class Contact>
+SNAG_HD_INLINE bool advance_time_search(const Contact& contact, double time_tolerance, IsolatedTimeInterval* isolated,
+                                        TimeSearchState* state, PendingTimeInterval* stack, CcdResult* result,
+                                        TimeSearchEnd* end) {
+  TimeInterval& node = state->node;
+  if (state->examined > kMaxTimeIntervals) {
+    *end = TimeSearchEnd::kGaveUp;
+    return true;
+  }
+  bool excluded = keeps_sign(node.b);
+  if (!excluded) {
+    const double ta = lower(node.num, node.level), tb = upper(node.num, node.level);
+    const int inside = node.inside ? 1 : contact.inside_over(ta, tb);
+    excluded = inside < 0;
+    if (!excluded) {
+      const double width = tb - ta;
+      if (width <= time_tolerance || node.level >= kMaxTimeLevel) {
+        if (inside > 0 && opposite_signs(node.b[0], node.b[3])) {
+          *result = make_result(CcdAnswer::kYes, ta, tb);
+          *end = TimeSearchEnd::kDecided;
+          return true;
+        }
+        const double wide_a = ta - width > 0 ? ta - width : 0;
+        const double wide_b = tb + width < 1 ? tb + width : 1;
+        if (contact.certify_crossing(wide_a, wide_b)) {
+          *result = make_result(CcdAnswer::kYes, ta, wide_b);
+          *end = TimeSearchEnd::kDecided;
+          return true;
+        }
+        *end = TimeSearchEnd::kGaveUp;
+        return true;
+      }
+      if (isolated != nullptr && inside > 0 && opposite_signs(node.b[0], node.b[3])) {
+        node.inside = true;
+        *isolated = IsolatedTimeInterval{node, state->examined};
+        *end = TimeSearchEnd::kIsolated;
+        return true;
+      }
+      // De Casteljau at the midpoint: the earlier half goes on now.
+      const Interval* b = node.b;
+      const Interval m01 = midpoint(b[0], b[1]), m12 = midpoint(b[1], b[2]), m23 = midpoint(b[2], b[3]);
+      const Interval m012 = midpoint(m01, m12), m123 = midpoint(m12, m23);
+      const Interval middle = midpoint(m012, m123);
+      const uint8_t level = static_cast<uint8_t>(node.level + 1);
+      stack[state->pending++] = PendingTimeInterval{2 * node.num + 1, level, inside > 0, {middle, m123, m23}};
+      node = TimeInterval{2 * node.num, level, inside > 0, {b[0], m01, m012, middle}};
+      ++state->examined;
+      return false;
+    }
+  }
+  if (state->pending == 0) {
+    if (state->subtree) {
+      *end = TimeSearchEnd::kGaveUp;
+      return true;
+    }
+    *result = make_result(CcdAnswer::kNo, 1, 1);
+    *end = TimeSearchEnd::kDecided;
+    return true;
+  }
+  const PendingTimeInterval& next = stack[--state->pending];
+  node = TimeInterval{
+      next.num,
+      next.level,
+      next.inside,
+      {next.b[0], next.b[1], next.b[2], state->pending > 0 ? stack[state->pending - 1].b[0] : state->last}};
+  ++state->examined;
+  return false;
+}
+
+/// Advances a search just started (start_time_search) to its end and
+/// returns how it ended.
+template <class Contact>
+SNAG_HD_INLINE TimeSearchEnd finish_time_search(const Contact& contact, double time_tolerance,
+                                                IsolatedTimeInterval* isolated, TimeSearchState* state,
+                                                CcdResult* result) {
+  PendingTimeInterval stack[kTimeSearchStack];
+  TimeSearchEnd end = TimeSearchEnd::kGaveUp;
+  while (!advance_time_search(contact, time_tolerance, isolated, state, stack, result, &end)) {
+  }
+  return end;
+}
+
 /// The search from `node` (the whole step, or an isolated interval when
 /// `subtree`), having examined `examined - 1` intervals before it; `last` is
 /// g's coefficient at the upper end of the node. Contact provides
@@ -140,55 +254,9 @@ template <class Contact>
 SNAG_HD TimeSearchEnd time_search_from(const Contact& contact, TimeInterval node, Interval last, int examined,
                                        bool subtree, double time_tolerance, IsolatedTimeInterval* isolated,
                                        CcdResult* result) {
-  PendingTimeInterval stack[kMaxTimeLevel + 1];
-  int pending = 0;
-  for (;; ++examined) {
-    if (examined > kMaxTimeIntervals) return TimeSearchEnd::kGaveUp;
-    bool excluded = keeps_sign(node.b);
-    if (!excluded) {
-      const double ta = lower(node.num, node.level), tb = upper(node.num, node.level);
-      const int inside = node.inside ? 1 : contact.inside_over(ta, tb);
-      excluded = inside < 0;
-      if (!excluded) {
-        const double width = tb - ta;
-        if (width <= time_tolerance || node.level >= kMaxTimeLevel) {
-          if (inside > 0 && opposite_signs(node.b[0], node.b[3])) {
-            *result = make_result(CcdAnswer::kYes, ta, tb);
-            return TimeSearchEnd::kDecided;
-          }
-          const double wide_a = ta - width > 0 ? ta - width : 0;
-          const double wide_b = tb + width < 1 ? tb + width : 1;
-          if (contact.certify_crossing(wide_a, wide_b)) {
-            *result = make_result(CcdAnswer::kYes, ta, wide_b);
-            return TimeSearchEnd::kDecided;
-          }
-          return TimeSearchEnd::kGaveUp;
-        }
-        if (isolated != nullptr && inside > 0 && opposite_signs(node.b[0], node.b[3])) {
-          node.inside = true;
-          *isolated = IsolatedTimeInterval{node, examined};
-          return TimeSearchEnd::kIsolated;
-        }
-        // De Casteljau at the midpoint: the earlier half goes on now.
-        const Interval* b = node.b;
-        const Interval m01 = midpoint(b[0], b[1]), m12 = midpoint(b[1], b[2]), m23 = midpoint(b[2], b[3]);
-        const Interval m012 = midpoint(m01, m12), m123 = midpoint(m12, m23);
-        const Interval middle = midpoint(m012, m123);
-        const uint8_t level = static_cast<uint8_t>(node.level + 1);
-        stack[pending++] = PendingTimeInterval{2 * node.num + 1, level, inside > 0, {middle, m123, m23}};
-        node = TimeInterval{2 * node.num, level, inside > 0, {b[0], m01, m012, middle}};
-        continue;
-      }
-    }
-    if (pending == 0) {
-      if (subtree) return TimeSearchEnd::kGaveUp;
-      *result = make_result(CcdAnswer::kNo, 1, 1);
-      return TimeSearchEnd::kDecided;
-    }
-    const PendingTimeInterval& next = stack[--pending];
-    node = TimeInterval{next.num, next.level, next.inside,
-                        {next.b[0], next.b[1], next.b[2], pending > 0 ? stack[pending - 1].b[0] : last}};
-  }
+  TimeSearchState state;
+  start_time_search(node, last, examined, subtree, &state);
+  return finish_time_search(contact, time_tolerance, isolated, &state, result);
 }
 
 /// The whole step's interval of `cubic`: its Bernstein coefficients of 3 g.
@@ -198,26 +266,23 @@ SNAG_HD_INLINE TimeInterval whole_step(const CoplanarityCubic& cubic) {
   return TimeInterval{0, 0, false, {b[0], b[1], b[2], b[3]}};
 }
 
+/// Starts the search over the whole step of `cubic` (see time_search_from).
+SNAG_HD_INLINE void start_whole_step_search(const CoplanarityCubic& cubic, TimeSearchState* state) {
+  const TimeInterval node = whole_step(cubic);
+  start_time_search(node, node.b[3], 1, false, state);
+}
+
 /// The search over the whole step. Returns false when it gives up; else
 /// *result is kNo or kYes with the enclosure of the earliest contact.
 template <class Contact>
 SNAG_HD bool time_search(const Contact& contact, const CoplanarityCubic& cubic, double time_tolerance,
                          CcdResult* result) {
-  const TimeInterval node = whole_step(cubic);
-  return time_search_from(contact, node, node.b[3], 1, false, time_tolerance, nullptr, result) ==
-         TimeSearchEnd::kDecided;
+  TimeSearchState state;
+  start_whole_step_search(cubic, &state);
+  return finish_time_search(contact, time_tolerance, nullptr, &state, result) == TimeSearchEnd::kDecided;
 }
 
-/// time_search, stopping where it isolates the earliest contact's interval
-/// (see time_search_from): kIsolated with *isolated set, or how it ended.
-template <class Contact>
-SNAG_HD TimeSearchEnd time_search_isolating(const Contact& contact, const CoplanarityCubic& cubic,
-                                            double time_tolerance, IsolatedTimeInterval* isolated, CcdResult* result) {
-  const TimeInterval node = whole_step(cubic);
-  return time_search_from(contact, node, node.b[3], 1, false, time_tolerance, isolated, result);
-}
-
-/// The rest of a search that time_search_isolating handed over: true with
+/// The rest of a search that handed over its isolated interval: true with
 /// *result as time_search would have set it, false where it gives up.
 template <class Contact>
 SNAG_HD bool time_search_isolated(const Contact& contact, const IsolatedTimeInterval& isolated, double time_tolerance,

@@ -160,6 +160,29 @@ SNAG_HD_INLINE bool edge_edge_structure(const ccd_detail::EdgeEdgeContact& conta
   return false;
 }
 
+/// The start of edge_edge_quick_isolating, on a query the early exits left
+/// undecided: false with *end and *result set when the decisions by
+/// structure decide it (kDecided) or, at a thickness, only the (t, u, v)
+/// search can (kGaveUp); else true with *search at the start of the time
+/// search over the whole step, which ccd_detail::advance_time_search
+/// carries on. Never throws.
+SNAG_HD_INLINE bool edge_edge_quick_start(const ccd_detail::EdgeEdgeContact& contact, const CcdSettings& settings,
+                                          ccd_detail::TimeSearchState* search, ccd_detail::TimeSearchEnd* end,
+                                          CcdResult* result) {
+  if (edge_edge_structure(contact, settings, result)) {
+    *end = ccd_detail::TimeSearchEnd::kDecided;
+    return false;
+  }
+  if (settings.thickness != 0) {
+    *end = ccd_detail::TimeSearchEnd::kGaveUp;
+    return false;
+  }
+  const Vec3* x = contact.points;
+  const Vec3 p[2] = {x[2] - x[0], x[6] - x[4]}, b[2] = {x[1] - x[0], x[5] - x[4]}, c[2] = {x[3] - x[2], x[7] - x[6]};
+  ccd_detail::start_whole_step_search(ccd_detail::coplanarity_cubic(p, b, c), search);
+  return true;
+}
+
 /// The decisions by structure and, at thickness 0, the time search, for a
 /// query the early exits left undecided (edge_edge_early_exit returned
 /// false): kDecided with *result set (the answer edge_edge_ccd gives) when
@@ -172,12 +195,10 @@ SNAG_HD_INLINE ccd_detail::TimeSearchEnd edge_edge_quick_isolating(
     const Vec3& ea1_t1, const Vec3& eb0_t1, const Vec3& eb1_t1, const CcdSettings& settings,
     ccd_detail::IsolatedTimeInterval* isolated, CcdResult* result) {
   const ccd_detail::EdgeEdgeContact contact{{ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1}};
-  if (edge_edge_structure(contact, settings, result)) return ccd_detail::TimeSearchEnd::kDecided;
-  if (settings.thickness != 0) return ccd_detail::TimeSearchEnd::kGaveUp;
-  const Vec3 p[2] = {eb0_t0 - ea0_t0, eb0_t1 - ea0_t1}, b[2] = {ea1_t0 - ea0_t0, ea1_t1 - ea0_t1},
-             c[2] = {eb1_t0 - eb0_t0, eb1_t1 - eb0_t1};
-  return ccd_detail::time_search_isolating(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance,
-                                           isolated, result);
+  ccd_detail::TimeSearchState search;
+  ccd_detail::TimeSearchEnd end;
+  if (!edge_edge_quick_start(contact, settings, &search, &end, result)) return end;
+  return ccd_detail::finish_time_search(contact, settings.time_tolerance, isolated, &search, result);
 }
 
 /// The decisions by structure and, at thickness 0, the time search, for a

@@ -161,6 +161,29 @@ SNAG_HD_INLINE bool vertex_face_structure(const ccd_detail::VertexFaceContact& c
   return false;
 }
 
+/// The start of vertex_face_quick_isolating, on a query the early exits left
+/// undecided: false with *end and *result set when the decisions by
+/// structure decide it (kDecided) or, at a thickness, only the (t, u, v)
+/// search can (kGaveUp); else true with *search at the start of the time
+/// search over the whole step, which ccd_detail::advance_time_search
+/// carries on. Never throws.
+SNAG_HD_INLINE bool vertex_face_quick_start(const ccd_detail::VertexFaceContact& contact, const CcdSettings& settings,
+                                            ccd_detail::TimeSearchState* search, ccd_detail::TimeSearchEnd* end,
+                                            CcdResult* result) {
+  if (vertex_face_structure(contact, settings, result)) {
+    *end = ccd_detail::TimeSearchEnd::kDecided;
+    return false;
+  }
+  if (settings.thickness != 0) {
+    *end = ccd_detail::TimeSearchEnd::kGaveUp;
+    return false;
+  }
+  const Vec3* x = contact.points;
+  const Vec3 p[2] = {x[0] - x[1], x[4] - x[5]}, b[2] = {x[2] - x[1], x[6] - x[5]}, c[2] = {x[3] - x[1], x[7] - x[5]};
+  ccd_detail::start_whole_step_search(ccd_detail::coplanarity_cubic(p, b, c), search);
+  return true;
+}
+
 /// The decisions by structure and, at thickness 0, the time search, for a
 /// query the early exits left undecided (vertex_face_early_exit returned
 /// false): kDecided with *result set (the answer vertex_face_ccd gives) when
@@ -173,11 +196,10 @@ SNAG_HD_INLINE ccd_detail::TimeSearchEnd vertex_face_quick_isolating(
     const Vec3& b_t1, const Vec3& c_t1, const CcdSettings& settings, ccd_detail::IsolatedTimeInterval* isolated,
     CcdResult* result) {
   const ccd_detail::VertexFaceContact contact{{p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1}};
-  if (vertex_face_structure(contact, settings, result)) return ccd_detail::TimeSearchEnd::kDecided;
-  if (settings.thickness != 0) return ccd_detail::TimeSearchEnd::kGaveUp;
-  const Vec3 p[2] = {p_t0 - a_t0, p_t1 - a_t1}, b[2] = {b_t0 - a_t0, b_t1 - a_t1}, c[2] = {c_t0 - a_t0, c_t1 - a_t1};
-  return ccd_detail::time_search_isolating(contact, ccd_detail::coplanarity_cubic(p, b, c), settings.time_tolerance,
-                                           isolated, result);
+  ccd_detail::TimeSearchState search;
+  ccd_detail::TimeSearchEnd end;
+  if (!vertex_face_quick_start(contact, settings, &search, &end, result)) return end;
+  return ccd_detail::finish_time_search(contact, settings.time_tolerance, isolated, &search, result);
 }
 
 /// The decisions by structure and, at thickness 0, the time search, for a

@@ -170,6 +170,23 @@ TEST_F(NarrowPhaseCcdQueries, RoundsOfAnySizeGiveTheSameHitsAndTheirCandidates) 
   for (std::size_t k = 0; k < ee_hits.size(); ++k) EXPECT_TRUE(ee_candidates[k] == batch.ee[ee_hits[k].candidate]);
 }
 
+TEST_F(NarrowPhaseCcdQueries, LanesTakingQueriesInTurnGiveTheSameHits) {
+  // One block of 128 lanes runs the time search of every query the early
+  // exits leave: each lane takes a new query whenever its search ends, many
+  // times over, and hands over the intervals it isolates.
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  const QueryBatch batch = make_batch(queries);
+  ASSERT_GT(batch.vf.size(), 10u * 128u);
+  ASSERT_GT(batch.ee.size(), 10u * 128u);
+  const DeviceBatch device(batch);
+  CudaNarrowPhase narrow(nullptr);
+  narrow.set_quick_block_limit(1);
+  std::vector<CcdHit> vf_hits, ee_hits;
+  device.find_hits(narrow, CcdSettings{}, CcdPasses::kScreenThenSearch, vf_hits, ee_hits);
+  expect_same_as_cpu(batch.vf_queries, vf_hits, CcdSettings{}, "one block of lanes");
+  expect_same_as_cpu(batch.ee_queries, ee_hits, CcdSettings{}, "one block of lanes");
+}
+
 /// Runs the CPU's whole test on the hits a screen left undecided (kUncertain)
 /// and drops those it rules out; returns how many there were.
 std::size_t finish_on_cpu(const std::vector<const io::CcdQuery*>& queries, const CcdSettings& settings,
