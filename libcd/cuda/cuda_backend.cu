@@ -270,10 +270,13 @@ class CudaBackend final : public Backend {
     broad.threads = settings.threads;
     ccd_broad_ = CudaBroadPhase::create(method_);
     static_broad_ = CudaBroadPhase::create(method_);
-    // On the streams their detections run on: the topology is uploaded once.
+    // On the streams their detections run on: the topology is uploaded once,
+    // and the representatives, which the static detection does not use, to
+    // the continuous one's broad phase alone.
     ccd_broad_->set_stream(compute_.get());
     static_broad_->set_stream(static_stream_.get());
     ccd_broad_->build(scene, broad);
+    ccd_broad_->upload_representatives();
     BroadPhaseSettings static_settings = broad;
     static_settings.thickness = 0;
     static_broad_->build(scene, static_settings);

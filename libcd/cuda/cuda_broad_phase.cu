@@ -97,14 +97,23 @@ void CudaBroadPhase::use_stream(cudaStream_t stream) {
   buffers_.reset();
   stream_ = stream;
   buffers_ = std::make_unique<CudaBroadPhaseBuffers>(stream);
-  // Topology and representatives (once per scene and stream).
-  const RepresentativeTriangles reps = assign_representative_triangles(*scene_);
+  // Topology (once per scene and stream); the representatives come with
+  // upload_representatives (the CUDA back end's bind, or the first
+  // continuous detection): the static detection does not use them.
   DeviceTopology& topology = buffers_->topology;
   topology.triangles.upload(scene_->triangles());
   topology.edges.upload(scene_->edges());
+  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+}
+
+void CudaBroadPhase::upload_representatives() {
+  if (scene_ == nullptr) throw UsageError("broad phase: build() must be called before the representatives");
+  DeviceTopology& topology = buffers_->topology;
+  if (topology.masks.size() == scene_->triangle_count()) return;  // uploaded on this stream already
+  const RepresentativeTriangles reps = assign_representative_triangles(*scene_);
   topology.masks.upload(reps.masks);
   topology.edge_ids.upload(reps.edge_ids);
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
 }
 
 void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
@@ -253,6 +262,7 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
                                           const CandidateVisitor& visit) {
   if (scene_ == nullptr) throw UsageError("broad phase: build() must be called before detection");
   use_stream(stream);
+  upload_representatives();
   DeviceMemoryTracker::instance().reset_peak();
   const auto start = std::chrono::steady_clock::now();
   double visit_seconds = 0;

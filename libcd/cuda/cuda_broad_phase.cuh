@@ -69,10 +69,15 @@ class CudaBroadPhase final : public BroadPhase {
   /// The stream its detections run on. Given before build(), build() makes
   /// its buffers and uploads the topology on it, once; a detection on another
   /// stream makes them again, on that one (the default stream until then).
+  /// The representative triangles, which only continuous detections use,
+  /// are assigned and uploaded by the first of them.
   void set_stream(cudaStream_t stream);
-  /// As VirtualSubdivisionGrid::build; uploads topology and representatives.
+  /// As VirtualSubdivisionGrid::build; uploads the topology.
   /// Throws UsageError for bad settings, CudaError when a CUDA call fails.
   void build(const Scene& scene, const BroadPhaseSettings& settings) override;
+  /// Assigns the representative triangles and uploads them now, unless they
+  /// are on the device already (else the first continuous detection does).
+  void upload_representatives();
   /// Upload, detect_ccd_on_device, download. Throws UsageError like the CPU's, CudaError.
   void detect_ccd(const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1, std::vector<VertexFaceCandidate>& vf,
                   std::vector<EdgeEdgeCandidate>& ee) override;

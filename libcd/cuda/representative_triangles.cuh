@@ -20,7 +20,8 @@
 
 namespace snag {
 
-/// The scene's topology and representatives on the device (uploaded once by build()).
+/// The scene's topology on the device (uploaded once by build()) and its
+/// representatives (by the first continuous detection, which alone uses them).
 struct DeviceTopology {
   DeviceBuffer<Triangle> triangles;              ///< #F
   DeviceBuffer<Edge> edges;                      ///< #E
