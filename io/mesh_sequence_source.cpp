@@ -28,9 +28,13 @@ MeshSequenceSource::MeshSequenceSource(std::vector<FrameFile> files, const std::
 }
 
 void MeshSequenceSource::read_frame(std::size_t i, std::vector<Vec3>& positions) const {
-  const MeshData frame = read_mesh_file(files_[i].path);
-  if (i != 0) check_same_topology(reference_, files_[0].path, frame, files_[i].path, i);
   positions.resize(scene_.vertex_count());
+  if (i == 0) {  // read for the topology already
+    gather_object_positions(reference_.objects, reference_.positions.data(), positions.data());
+    return;
+  }
+  const MeshData frame = read_mesh_file(files_[i].path);
+  check_same_topology(reference_, files_[0].path, frame, files_[i].path, i);
   gather_object_positions(frame.objects, frame.positions.data(), positions.data());
 }
 

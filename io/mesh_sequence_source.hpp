@@ -23,13 +23,14 @@ class MeshSequenceSource : public FrameSource {
   std::size_t frame_count() const override { return files_.size(); }
   double frame_time(std::size_t i) const override { return files_[i].number; }
   /// Parses file i only, checks its topology against frame 0 and gathers its
-  /// objects' positions. Throws InputError.
+  /// objects' positions; frame 0's come from the read that gave the topology.
+  /// Throws InputError.
   void read_frame(std::size_t i, std::vector<Vec3>& positions) const override;
   std::string description() const override { return description_; }
 
  private:
   std::vector<FrameFile> files_;
-  MeshData reference_;  ///< frame 0's topology (positions dropped)
+  MeshData reference_;  ///< frame 0: the topology, and the positions read_frame(0) gives
   Scene scene_;
   std::string description_;
 };

@@ -82,6 +82,14 @@ TEST(OpenCache, StreamsOneFilePerFrame) {
   expect_input_error([&] { source->read_frame(1, positions); }, "c2.obj: no such file");
 }
 
+TEST(OpenCache, GivesFrameZeroFromTheReadThatGaveTheTopology) {
+  testing::TempDir dir;
+  for (int frame : {1, 2}) dir.write("c" + std::to_string(frame) + ".obj", triangle_obj(frame));
+  const auto source = open_cache(one_input(dir.path("c%d.obj")));
+  std::filesystem::remove(dir.path("c1.obj"));  // not read again
+  EXPECT_EQ(first_xs(*source), (std::vector<double>{1, 2}));
+}
+
 TEST(OpenCache, RejectsTopologyChangeNamingFrameAndDifference) {
   testing::TempDir dir;
   dir.write("m0.obj", triangle_obj(0));
