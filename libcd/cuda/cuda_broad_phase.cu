@@ -235,6 +235,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   DeviceFeatures& f = b.features;
   for (DeviceBuffer<std::uint64_t>* per_pair : {&f.vf_count, &f.ee_count, &f.vf_offset, &f.ee_offset})
     if (per_pair->capacity() > 0 && per_pair->capacity() - 1 > key_room) per_pair->release();  // n + 1 for n pairs
+  if (f.kept.capacity() > key_room) f.kept.release();
   for (DeviceBuffer<std::uint64_t>* keys : {&f.vf_keys, &f.ee_keys, &f.vf_sorted, &f.ee_sorted})
     if (keys->capacity() > candidate_room_) keys->release();
   if (f.vf.capacity() > candidate_room_) f.vf.release();
@@ -400,8 +401,9 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   add("pairs: counters, histogram, scratch",
       p.counters.capacity_bytes() + p.histogram.capacity_bytes() + p.temp.capacity_bytes());
   const DeviceFeatures& f = b.features;
-  add("features: counts and offsets (chunk)", f.vf_count.capacity_bytes() + f.ee_count.capacity_bytes() +
-                                                  f.vf_offset.capacity_bytes() + f.ee_offset.capacity_bytes());
+  add("features: counts, offsets and kept bits (chunk)", f.vf_count.capacity_bytes() + f.ee_count.capacity_bytes() +
+                                                             f.vf_offset.capacity_bytes() +
+                                                             f.ee_offset.capacity_bytes() + f.kept.capacity_bytes());
   add("features: keys (part)", f.vf_keys.capacity_bytes() + f.ee_keys.capacity_bytes() +
                                    f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes());
   add("features: candidates (part)", f.vf.capacity_bytes() + f.ee.capacity_bytes());
@@ -430,11 +432,11 @@ GrowthCheck CudaBroadPhase::budget_check(const char* stage) const {
 std::size_t CudaBroadPhase::chunk_bytes() const {
   const DevicePairs& p = buffers_->pairs;
   const DeviceFeatures& f = buffers_->features;
-  return p.kept.capacity_bytes() + p.sorted.capacity_bytes() + p.pairs.capacity_bytes() +
-         p.cell_test_bytes() +
+  return p.kept.capacity_bytes() + p.sorted.capacity_bytes() + p.pairs.capacity_bytes() + p.cell_test_bytes() +
          f.vf_count.capacity_bytes() + f.ee_count.capacity_bytes() + f.vf_offset.capacity_bytes() +
-         f.ee_offset.capacity_bytes() + f.vf_keys.capacity_bytes() + f.ee_keys.capacity_bytes() +
-         f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes() + f.vf.capacity_bytes() + f.ee.capacity_bytes();
+         f.ee_offset.capacity_bytes() + f.kept.capacity_bytes() + f.vf_keys.capacity_bytes() +
+         f.ee_keys.capacity_bytes() + f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes() +
+         f.vf.capacity_bytes() + f.ee.capacity_bytes();
 }
 
 void CudaBroadPhase::release_stage_buffers() {

@@ -37,12 +37,12 @@ struct FeatureInputs {
   const TrianglePair* pairs;
 };
 
-/// The CPU's loop body for one triangle pair. With keys == nullptr it counts
-/// (before and after culling); otherwise it writes the kept pairs' keys
-/// (vertex << 32 | face, edge_a << 32 | edge_b) in the CPU's order.
-__device__ void feature_pairs_of(const FeatureInputs& in, std::uint64_t p, unsigned& vf_before, unsigned& vf_after,
-                                 unsigned& ee_before, unsigned& ee_after, std::uint64_t* vf_keys,
-                                 std::uint64_t* ee_keys) {
+/// The CPU's loop body for one triangle pair: counts its feature pairs
+/// before and after culling, and returns the bits of those the culling kept
+/// (kept_bit: vertex-face 3 s + i, edge-edge 6 + 3 i + j).
+__device__ std::uint16_t feature_pairs_of(const FeatureInputs& in, std::uint64_t p, unsigned& vf_before,
+                                          unsigned& vf_after, unsigned& ee_before, unsigned& ee_after) {
+  std::uint16_t kept = 0;
   const Index side[2] = {in.pairs[p].a, in.pairs[p].b};
   for (int s = 0; s < 2; ++s) {
     const Index a = side[s], b = side[1 - s];
@@ -53,7 +53,7 @@ __device__ void feature_pairs_of(const FeatureInputs& in, std::uint64_t p, unsig
       if (is_corner(tb, v)) continue;
       ++vf_before;
       if (dop_overlap(in.vertex_dops[v], in.triangle_dops[b])) {
-        if (vf_keys != nullptr) vf_keys[vf_after] = (std::uint64_t(v) << 32) | b;
+        kept |= static_cast<std::uint16_t>(1u << (3 * s + i));
         ++vf_after;
       }
     }
@@ -69,19 +69,22 @@ __device__ void feature_pairs_of(const FeatureInputs& in, std::uint64_t p, unsig
       if (ga[0] == gb[0] || ga[0] == gb[1] || ga[1] == gb[0] || ga[1] == gb[1]) continue;
       ++ee_before;
       if (dop_overlap(in.edge_dops[ea], in.edge_dops[eb])) {
-        if (ee_keys != nullptr) ee_keys[ee_after] = ea < eb ? (std::uint64_t(ea) << 32) | eb : (std::uint64_t(eb) << 32) | ea;
+        kept |= static_cast<std::uint16_t>(1u << (6 + 3 * i + j));
         ++ee_after;
       }
     }
   }
+  return kept;
 }
 
+/// Counts the feature pairs of triangle pair p < n and records which the
+/// culling kept (kept[p]), so that write_kernel need not test them again.
 __global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_count, std::uint64_t* ee_count,
-                             unsigned long long* counters) {
+                             std::uint16_t* kept, unsigned long long* counters) {
   const std::uint64_t p = thread_item();
   unsigned vf_before = 0, vf_after = 0, ee_before = 0, ee_after = 0;
   if (p < n) {
-    feature_pairs_of(in, p, vf_before, vf_after, ee_before, ee_after, nullptr, nullptr);
+    kept[p] = feature_pairs_of(in, p, vf_before, vf_after, ee_before, ee_after);
     vf_count[p] = vf_after;
     ee_count[p] = ee_after;
   } else if (p == n) {
@@ -92,15 +95,36 @@ __global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_
   detail::warp_count(ee_before, &counters[1]);
 }
 
-/// Writes the keys of pairs [first, first + n), at their offsets less those of pair `first`.
-__global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t n, const std::uint64_t* vf_offset,
-                             const std::uint64_t* ee_offset, std::uint64_t* vf_keys, std::uint64_t* ee_keys) {
+/// Writes the keys of the kept feature pairs of pairs [first, first + n)
+/// (vertex << 32 | face, edge_a << 32 | edge_b with edge_a < edge_b), in the
+/// order feature_pairs_of finds them, at their offsets less those of pair
+/// `first`.
+__global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t n, const std::uint16_t* kept,
+                             const std::uint64_t* vf_offset, const std::uint64_t* ee_offset, std::uint64_t* vf_keys,
+                             std::uint64_t* ee_keys) {
   const std::uint64_t k = thread_item();
   if (k >= n) return;
   const std::uint64_t p = first + k;
-  unsigned vf_before = 0, vf_after = 0, ee_before = 0, ee_after = 0;
-  feature_pairs_of(in, p, vf_before, vf_after, ee_before, ee_after, vf_keys + (vf_offset[p] - vf_offset[first]),
-                   ee_keys + (ee_offset[p] - ee_offset[first]));
+  const unsigned bits = kept[p];
+  if (bits == 0) return;
+  const Index side[2] = {in.pairs[p].a, in.pairs[p].b};
+  std::uint64_t* vf = vf_keys + (vf_offset[p] - vf_offset[first]);
+  for (int s = 0; s < 2; ++s) {
+    if (!(bits & (7u << (3 * s)))) continue;
+    const Triangle ta = in.tris[side[s]];
+    for (int i = 0; i < 3; ++i)
+      if (bits & (1u << (3 * s + i))) *vf++ = (std::uint64_t(ta[i]) << 32) | side[1 - s];
+  }
+  if (!(bits >> 6)) return;
+  std::uint64_t* ee = ee_keys + (ee_offset[p] - ee_offset[first]);
+  const std::array<Index, 3> edges_a = in.edge_ids[side[0]], edges_b = in.edge_ids[side[1]];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (!(bits & (1u << (6 + 3 * i + j)))) continue;
+      const Index ea = edges_a[i], eb = edges_b[j];
+      *ee++ = ea < eb ? (std::uint64_t(ea) << 32) | eb : (std::uint64_t(eb) << 32) | ea;
+    }
+  }
 }
 
 /// Part j (0 <= j <= parts) starts at the first pair whose candidates before
@@ -157,12 +181,13 @@ void representative_feature_pairs_on_device(
                          topology.edge_ids.data(), triangle_dops, edge_dops, vertex_dops, pairs};
   f.vf_count.resize(n + 1);
   f.ee_count.resize(n + 1);
+  f.kept.resize(n);
   f.vf_offset.resize(n + 1);
   f.ee_offset.resize(n + 1);
   f.counters.resize(2);
   f.counters.fill_zero();
   count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(in, n, f.vf_count.data(), f.ee_count.data(),
-                                                                    f.counters.data());
+                                                                     f.kept.data(), f.counters.data());
   SNAG_CUDA_CHECK_LAUNCH();
   exclusive_sum(f.vf_count.data(), f.vf_offset.data(), n + 1, f.temp, stream);
   exclusive_sum(f.ee_count.data(), f.ee_offset.data(), n + 1, f.temp, stream);
@@ -203,8 +228,9 @@ void representative_feature_pairs_on_device(
     f.ee_keys.resize(ee_n);
     f.vf_sorted.resize(vf_n);
     f.ee_sorted.resize(ee_n);
-    write_kernel<<<blocks_for(end - first), detail::kBlockSize, 0, stream>>>(
-        in, first, end - first, f.vf_offset.data(), f.ee_offset.data(), f.vf_keys.data(), f.ee_keys.data());
+    write_kernel<<<blocks_for(end - first), detail::kBlockSize, 0, stream>>>(in, first, end - first, f.kept.data(),
+                                                                             f.vf_offset.data(), f.ee_offset.data(),
+                                                                             f.vf_keys.data(), f.ee_keys.data());
     SNAG_CUDA_CHECK_LAUNCH();
     const std::uint64_t* vf_sorted = sort_keys(f.vf_keys.data(), f.vf_sorted.data(), vf_n, vf_bits, f.temp, stream);
     const std::uint64_t* ee_sorted = sort_keys(f.ee_keys.data(), f.ee_sorted.data(), ee_n, ee_bits, f.temp, stream);

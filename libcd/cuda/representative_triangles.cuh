@@ -38,19 +38,32 @@ struct DeviceFeatures {
   DeviceBuffer<std::uint64_t> vf_keys, ee_keys, vf_sorted, ee_sorted;  ///< keys and sorted: the sort's two halves
   DeviceBuffer<VertexFaceCandidate> vf;  ///< the result of a part, sorted
   DeviceBuffer<EdgeEdgeCandidate> ee;    ///< the result of a part, sorted
+  DeviceBuffer<std::uint16_t> kept;      ///< per pair: the feature pairs the culling kept (one bit each)
   DeviceBuffer<unsigned long long> counters;
   DeviceBuffer<std::uint64_t> bounds;  ///< first pair, vf and ee offsets of each part
   DeviceBuffer<unsigned char> temp;
 
   explicit DeviceFeatures(cudaStream_t stream)
-      : vf_count(0, stream), ee_count(0, stream), vf_offset(0, stream), ee_offset(0, stream), vf_keys(0, stream),
-        ee_keys(0, stream), vf_sorted(0, stream), ee_sorted(0, stream), vf(0, stream), ee(0, stream),
-        counters(0, stream), bounds(0, stream), temp(0, stream) {}
+      : vf_count(0, stream),
+        ee_count(0, stream),
+        vf_offset(0, stream),
+        ee_offset(0, stream),
+        vf_keys(0, stream),
+        ee_keys(0, stream),
+        vf_sorted(0, stream),
+        ee_sorted(0, stream),
+        vf(0, stream),
+        ee(0, stream),
+        kept(0, stream),
+        counters(0, stream),
+        bounds(0, stream),
+        temp(0, stream) {}
 };
 
-/// Device bytes of the feature stage per triangle pair (counts and offsets)
-/// and per candidate (key, the sort's second half, the candidate).
-constexpr std::size_t kFeatureBytesPerPair = 4 * sizeof(std::uint64_t);
+/// Device bytes of the feature stage per triangle pair (counts, offsets and
+/// the kept bits) and per candidate (key, the sort's second half, the
+/// candidate).
+constexpr std::size_t kFeatureBytesPerPair = 4 * sizeof(std::uint64_t) + sizeof(std::uint16_t);
 constexpr std::size_t kFeatureBytesPerCandidate = 3 * sizeof(std::uint64_t);
 /// The most candidates one triangle pair yields (6 vertex-face, 9 edge-edge).
 constexpr std::size_t kMostCandidatesPerPair = 15;
