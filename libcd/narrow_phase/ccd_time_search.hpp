@@ -91,10 +91,10 @@ SNAG_HD_INLINE bool keeps_sign(const Interval b[4]) {
   return positive || negative;
 }
 
-/// Where an isolating search (time_search_isolating) handed its interval
-/// over: the node it was about to halve, on which g has strictly opposite
-/// signs at the ends and every inside condition holds (`inside` is true),
-/// and the count of intervals examined up to and including it.
+/// Where an isolating search (time_search_from with `isolated`) handed its
+/// interval over: the node it was about to halve, on which g has strictly
+/// opposite signs at the ends and every inside condition holds (`inside` is
+/// true), and the count of intervals examined up to and including it.
 struct IsolatedTimeInterval {
   TimeInterval node;
   int examined;
