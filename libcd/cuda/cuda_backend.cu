@@ -63,6 +63,7 @@
 #include <array>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <future>
@@ -96,6 +97,25 @@ constexpr std::size_t kNarrowRoomCap = std::size_t{512} << 20;
 /// Frames on the device: a step's two, and the frame after them, which the
 /// next step's detection ahead reads.
 constexpr int kFrameSlots = 3;
+
+/// Lets the device's default memory pool, from which every DeviceBuffer is
+/// allocated (cudaMallocAsync), keep up to `bytes` it has reserved when
+/// buffers are freed, instead of giving them back to the driver at every
+/// synchronisation (its default threshold is 0): a step frees and allocates
+/// its chunks and staging buffers again, and memory given back must be
+/// mapped again, which stalls the stream for each large buffer. Never
+/// lowers a threshold that is already higher.
+void keep_pool_memory(std::size_t bytes) {
+  int device = 0;
+  SNAG_CUDA_CHECK(cudaGetDevice(&device));
+  cudaMemPool_t pool = nullptr;
+  SNAG_CUDA_CHECK(cudaDeviceGetDefaultMemPool(&pool, device));
+  std::uint64_t threshold = 0;  // the attribute's cuuint64_t
+  SNAG_CUDA_CHECK(cudaMemPoolGetAttribute(pool, cudaMemPoolAttrReleaseThreshold, &threshold));
+  if (threshold >= bytes) return;
+  threshold = bytes;
+  SNAG_CUDA_CHECK(cudaMemPoolSetAttribute(pool, cudaMemPoolAttrReleaseThreshold, &threshold));
+}
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -290,6 +310,7 @@ class CudaBackend final : public Backend {
     budget_ = settings.device_memory_bytes > 0 ? settings.device_memory_bytes
               : free_bytes > kDefaultMarginBytes ? free_bytes - kDefaultMarginBytes
                                                  : free_bytes / 2;
+    keep_pool_memory(budget_);
     if (needed > free_bytes) {
       throw CudaError("the scene does not fit in GPU memory: its topology and " + std::to_string(kFrameSlots) +
                           " frames need " + std::to_string(needed) + " bytes, " + std::to_string(free_bytes) + " of " +
