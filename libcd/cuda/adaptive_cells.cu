@@ -340,12 +340,11 @@ void build_adaptive_cells_on_device(const Leaf* leaves, std::size_t leaf_count, 
     CellFate level_counts{};
     RegistrationFate reg_totals{};
     unsigned long long stuck_in_crowded = 0;
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(&level_counts, out.cell_offset.data() + runs, sizeof(level_counts),
-                                    cudaMemcpyDeviceToHost, stream));
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(&reg_totals, out.reg_offset.data() + total, sizeof(reg_totals),
-                                    cudaMemcpyDeviceToHost, stream));
-    out.counters.download(&stuck_in_crowded, 1);
-    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+    ReadBack(stream)
+        .add(&level_counts, out.cell_offset.data() + runs)
+        .add(&reg_totals, out.reg_offset.data() + total)
+        .add(&stuck_in_crowded, out.counters.data())
+        .wait();
     out.cells_subdivided += level_counts.crowded;
     out.stuck_registrations += stuck_in_crowded;
 

@@ -6,6 +6,7 @@
 // recorded in DeviceMemoryTracker, so the peak device memory of a run is known.
 // PinnedBuffer<T>: a move-only array in page-locked host memory, the staging
 // area for truly asynchronous uploads of streamed frames.
+// ReadBack: small device values copied to the host with one wait.
 //
 // T must be trivially copyable: contents move by memcpy.
 #pragma once
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cstddef>
+#include <cstring>
 #include <functional>
 #include <type_traits>
 #include <utility>
@@ -186,6 +188,60 @@ class PinnedBuffer {
   T* data_ = nullptr;
   std::size_t size_ = 0;
   std::size_t capacity_ = 0;
+};
+
+/// A few small device values (counts, totals, counters) copied to the host
+/// with one wait. A copy to pageable memory returns only once it is done, so
+/// that each would wait for the device on its own; these copies land in
+/// page-locked memory of the calling thread instead, and wait() synchronises
+/// the stream once and moves each value to its place.
+class ReadBack {
+ public:
+  explicit ReadBack(cudaStream_t stream) : stream_(stream) {}
+
+  /// Copies device[0, count) to host[0, count) at wait().
+  template <class T>
+  ReadBack& add(T* host, const T* device, std::size_t count = 1) {
+    static_assert(std::is_trivially_copyable<T>::value, "ReadBack copies trivially copyable types only");
+    assert(copies_ < kMaxCopies);
+    copy_[copies_++] = Copy{host, device, count * sizeof(T)};
+    return *this;
+  }
+
+  /// Enqueues the copies, waits for the stream and moves the values to
+  /// their places. Throws CudaError.
+  void wait() {
+    constexpr std::size_t kAlign = 16;
+    std::size_t total = 0;
+    for (int k = 0; k < copies_; ++k) total += (copy_[k].bytes + kAlign - 1) / kAlign * kAlign;
+    thread_local PinnedBuffer<unsigned char> staging;
+    staging.resize(total);
+    std::size_t at = 0;
+    for (int k = 0; k < copies_; ++k) {
+      if (copy_[k].bytes > 0)
+        SNAG_CUDA_CHECK(
+            cudaMemcpyAsync(staging.data() + at, copy_[k].device, copy_[k].bytes, cudaMemcpyDeviceToHost, stream_));
+      at += (copy_[k].bytes + kAlign - 1) / kAlign * kAlign;
+    }
+    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
+    at = 0;
+    for (int k = 0; k < copies_; ++k) {
+      if (copy_[k].bytes > 0) std::memcpy(copy_[k].host, staging.data() + at, copy_[k].bytes);
+      at += (copy_[k].bytes + kAlign - 1) / kAlign * kAlign;
+    }
+    copies_ = 0;
+  }
+
+ private:
+  static constexpr int kMaxCopies = 4;
+  struct Copy {
+    void* host;
+    const void* device;
+    std::size_t bytes;
+  };
+  cudaStream_t stream_;
+  Copy copy_[kMaxCopies] = {};
+  int copies_ = 0;
 };
 
 /// Told by a stage the device bytes its buffers are about to add, before they

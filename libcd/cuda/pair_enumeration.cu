@@ -491,11 +491,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
         cub::DeviceReduce::Sum(p.temp.data(), bytes, p.cell_tests.data(), p.test_total.data(), cells + 1, stream));
     exclusive_sum(p.cell_tiles.data(), p.first_tile.data(), cells + 1, p.temp, stream);
     Numbered counts;
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(&counts.tests, p.test_total.data(), sizeof(std::uint64_t),
-                                    cudaMemcpyDeviceToHost, stream));
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(&counts.tiles, p.first_tile.data() + cells, sizeof(std::uint64_t),
-                                    cudaMemcpyDeviceToHost, stream));
-    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+    ReadBack(stream).add(&counts.tests, p.test_total.data()).add(&counts.tiles, p.first_tile.data() + cells).wait();
     return counts;
   };
   const Numbered whole_set = number_tests({0, triangle_end});
@@ -563,9 +559,10 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
           triangle_boxes, range.first, range.end, bucket_width, p.histogram.data(), p.kept.data(), kept_room,
           count_culled, p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();
-      p.counters.download(counts, kCounters);
-      p.histogram.download(histogram.data(), kHistogramBuckets);
-      SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+      ReadBack(stream)
+          .add(counts, p.counters.data(), kCounters)
+          .add(histogram.data(), p.histogram.data(), kHistogramBuckets)
+          .wait();
     }
     if (count_culled && counts[kCulled] > culled_room) {  // the benchmark's culled keys: grow, run again
       culled_room = counts[kCulled];

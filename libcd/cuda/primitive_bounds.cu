@@ -135,9 +135,10 @@ void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t t
   }
   Vec3 box[4];
   max_radius = 0;
-  if (vertex_count > 0) out.box.download(box, 4);
-  if (triangle_count > 0) out.max_radius.download(&max_radius, 1);
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+  ReadBack read(stream);
+  if (vertex_count > 0) read.add(box, out.box.data(), 4);
+  if (triangle_count > 0) read.add(&max_radius, out.max_radius.data());
+  read.wait();
   if (vertex_count == 0) {
     scene_lo = scene_hi = Vec3{};
     return;

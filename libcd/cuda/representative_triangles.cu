@@ -193,12 +193,11 @@ void representative_feature_pairs_on_device(
   exclusive_sum(f.ee_count.data(), f.ee_offset.data(), n + 1, f.temp, stream);
   std::uint64_t vf_total = 0, ee_total = 0;
   unsigned long long before[2] = {0, 0};
-  SNAG_CUDA_CHECK(
-      cudaMemcpyAsync(&vf_total, f.vf_offset.data() + n, sizeof(vf_total), cudaMemcpyDeviceToHost, stream));
-  SNAG_CUDA_CHECK(
-      cudaMemcpyAsync(&ee_total, f.ee_offset.data() + n, sizeof(ee_total), cudaMemcpyDeviceToHost, stream));
-  f.counters.download(before, 2);
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+  ReadBack(stream)
+      .add(&vf_total, f.vf_offset.data() + n)
+      .add(&ee_total, f.ee_offset.data() + n)
+      .add(before, f.counters.data(), 2)
+      .wait();
   counts.vf_before += before[0];
   counts.ee_before += before[1];
   counts.vf_after += vf_total;

@@ -145,12 +145,11 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
     exclusive_sum(b.leaf_count.data(), b.leaf_offset.data(), n + 1, b.temp, stream, check);
     std::uint64_t child_total = 0, leaf_total = 0;
     unsigned long long counters[3] = {0, 0, 0};
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(&child_total, b.child_offset.data() + n, sizeof(std::uint64_t),
-                                    cudaMemcpyDeviceToHost, stream));
-    SNAG_CUDA_CHECK(cudaMemcpyAsync(&leaf_total, b.leaf_offset.data() + n, sizeof(std::uint64_t),
-                                    cudaMemcpyDeviceToHost, stream));
-    b.counters.download(counters, 3);
-    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+    ReadBack(stream)
+        .add(&child_total, b.child_offset.data() + n)
+        .add(&leaf_total, b.leaf_offset.data() + n)
+        .add(counters, b.counters.data(), 3)
+        .wait();
 
     SubdivisionLevelCounts counts;
     counts.triangles = n;

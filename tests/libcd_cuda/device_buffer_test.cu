@@ -3,6 +3,7 @@
 // bytes held when the test starts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <numeric>
 #include <utility>
@@ -95,6 +96,47 @@ TEST_F(DeviceBufferTest, UploadsFromPinnedMemoryOnAStream) {
     buffer.download(back.data(), back.size());
     SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
     for (std::size_t i = 0; i < back.size(); ++i) ASSERT_EQ(back[i], staging[i]) << "element " << i;
+  }
+  SNAG_CUDA_CHECK(cudaStreamDestroy(stream));
+}
+
+TEST_F(DeviceBufferTest, ReadBackGivesEveryValueAtItsPlace) {
+  cudaStream_t stream = nullptr;
+  SNAG_CUDA_CHECK(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking));
+  {
+    std::vector<std::uint64_t> totals(9);
+    std::iota(totals.begin(), totals.end(), std::uint64_t{1} << 40);
+    std::vector<unsigned> histogram(1000);
+    std::iota(histogram.begin(), histogram.end(), 3u);
+    std::vector<char> bytes = {'a', 'b', 'c'};  // an odd size: the next copy lands aligned
+    DeviceBuffer<std::uint64_t> d_totals(0, stream);
+    DeviceBuffer<unsigned> d_histogram(0, stream);
+    DeviceBuffer<char> d_bytes(0, stream);
+    d_totals.upload(totals);
+    d_histogram.upload(histogram);
+    d_bytes.upload(bytes);
+    std::uint64_t last = 0, first_two[2] = {0, 0};
+    std::vector<unsigned> histogram_back(histogram.size());
+    char bytes_back[3] = {};
+    for (int round = 0; round < 2; ++round) {  // the staging memory is used again
+      ReadBack(stream)
+          .add(&last, d_totals.data() + 8)
+          .add(bytes_back, d_bytes.data(), 3)
+          .add(histogram_back.data(), d_histogram.data(), histogram.size())
+          .add(first_two, d_totals.data(), 2)
+          .wait();
+      EXPECT_EQ(last, totals[8]);
+      EXPECT_EQ(first_two[0], totals[0]);
+      EXPECT_EQ(first_two[1], totals[1]);
+      EXPECT_EQ(std::vector<char>(bytes_back, bytes_back + 3), bytes);
+      EXPECT_EQ(histogram_back, histogram);
+      d_totals.fill_zero();
+      d_histogram.fill_zero();
+      d_bytes.fill_zero();
+      std::fill(totals.begin(), totals.end(), 0);
+      std::fill(histogram.begin(), histogram.end(), 0u);
+      std::fill(bytes.begin(), bytes.end(), 0);
+    }
   }
   SNAG_CUDA_CHECK(cudaStreamDestroy(stream));
 }
