@@ -569,16 +569,20 @@ class CudaBackend final : public Backend {
       if (!std::exchange(claimed, true)) claim_staged();
     };
     // Each chunk's events are copied on the host when the next chunk comes
-    // (vertex-face, then edge-edge).
-    auto visit_chunk = [&](const DeviceCandidates& chunk) {
+    // (vertex-face, then edge-edge), while the device works on its first
+    // round: the staged events are claimed, then those the narrow phases
+    // hold deferred appended in order.
+    const std::function<void()> flush_deferred = [&] {
       claim();
-      const auto narrow_start = std::chrono::steady_clock::now();
       narrow_.flush_events();
       edge_narrow_.flush_events();
+    };
+    auto visit_chunk = [&](const DeviceCandidates& chunk) {
+      const auto narrow_start = std::chrono::steady_clock::now();
       narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
-                                 CcdPasses::kScreenOnly, events);
+                                 CcdPasses::kScreenOnly, events, flush_deferred);
       edge_narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
-                                    CcdPasses::kScreenOnly, events);
+                                    CcdPasses::kScreenOnly, events, flush_deferred);
       found.vf_count += chunk.vf_count;
       found.ee_count += chunk.ee_count;
       found.narrow_seconds += seconds_since(narrow_start);

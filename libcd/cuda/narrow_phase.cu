@@ -487,10 +487,12 @@ void CudaNarrowPhase::run_ccd(const Query& query, std::size_t count, const CcdSe
   if (count > 0xffffffffu) throw CudaError("the GPU narrow phase takes at most 2^32 - 1 candidates per call", 0);
   if (sink.events != nullptr && passes == CcdPasses::kScreenThenSearch)
     throw std::invalid_argument("CCD events are built on the device only after kScreenOnly or kSinglePass");
+  HitSink<typename Query::Candidate> round_sink = sink;
   for (std::size_t first = 0; first < count; first += chunk_size_) {
     Query chunk = query;
     chunk.candidates += first;
-    run_ccd_chunk(chunk, std::min(chunk_size_, count - first), first, settings, passes, sink);
+    run_ccd_chunk(chunk, std::min(chunk_size_, count - first), first, settings, passes, round_sink);
+    round_sink.while_busy = nullptr;
   }
 }
 
@@ -498,7 +500,6 @@ template <class Query>
 void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::size_t first,
                                     const CcdSettings& settings, CcdPasses passes,
                                     const HitSink<typename Query::Candidate>& sink) {
-  flush_events();  // host_gathered_ is reused below
   const bool screen = passes != CcdPasses::kSinglePass;
   const bool search = passes == CcdPasses::kScreenThenSearch;
   DeviceMemoryTracker::set_stage("narrow phase");
@@ -541,6 +542,10 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
                                                                    results_.data(), flags_.data());
   }
   SNAG_CUDA_CHECK_LAUNCH();
+  // While the device works: the caller's work, then the deferred events of
+  // the last call or round (host_gathered_ is reused below).
+  if (sink.while_busy != nullptr && *sink.while_busy) (*sink.while_busy)();
+  flush_events();
   screened.record(stream_);
   // The screen's hits and the candidates it left undecided, or the single
   // pass's hits.
@@ -623,16 +628,18 @@ void CudaNarrowPhase::edge_edge(const Vec3* x_t0, const Vec3* x_t1, const Edge* 
 
 void CudaNarrowPhase::vertex_face_events(const Vec3* x_t0, const Vec3* x_t1, const Triangle* triangles,
                                          const VertexFaceCandidate* candidates, std::size_t count,
-                                         const CcdSettings& settings, CcdPasses passes, std::vector<Event>& events) {
+                                         const CcdSettings& settings, CcdPasses passes, std::vector<Event>& events,
+                                         const std::function<void()>& while_busy) {
   run_ccd(VertexFaceQuery{x_t0, x_t1, reinterpret_cast<const Index*>(triangles), candidates}, count, settings, passes,
-          HitSink<VertexFaceCandidate>{nullptr, nullptr, &events});
+          HitSink<VertexFaceCandidate>{nullptr, nullptr, &events, &while_busy});
 }
 
 void CudaNarrowPhase::edge_edge_events(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges,
                                        const EdgeEdgeCandidate* candidates, std::size_t count,
-                                       const CcdSettings& settings, CcdPasses passes, std::vector<Event>& events) {
+                                       const CcdSettings& settings, CcdPasses passes, std::vector<Event>& events,
+                                       const std::function<void()>& while_busy) {
   run_ccd(EdgeEdgeQuery{x_t0, x_t1, reinterpret_cast<const Index*>(edges), candidates}, count, settings, passes,
-          HitSink<EdgeEdgeCandidate>{nullptr, nullptr, &events});
+          HitSink<EdgeEdgeCandidate>{nullptr, nullptr, &events, &while_busy});
 }
 
 void CudaNarrowPhase::triangle_pairs(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
@@ -661,7 +668,6 @@ std::size_t CudaNarrowPhase::run_triangle_pairs(const Vec3* x, const Triangle* t
 std::size_t CudaNarrowPhase::triangle_pairs_chunk(const Vec3* x, const Triangle* triangles, const TrianglePair* pairs,
                                                   std::size_t count, std::size_t first, TrianglePairCounts& counts,
                                                   const PairSink& sink) {
-  flush_events();  // host_gathered_ is reused below
   CudaEvent start, tested;
   resize_or_throw(flags_, count, "triangle-pair flags");
   resize_or_throw(selected_, count, "triangle-pair indices");
@@ -671,6 +677,7 @@ std::size_t CudaNarrowPhase::triangle_pairs_chunk(const Vec3* x, const Triangle*
   triangle_pairs_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(x, corners, pairs, count, flags_.data(),
                                                                        counters_.data());
   SNAG_CUDA_CHECK_LAUNCH();
+  flush_events();  // while the device tests (host_gathered_ is reused below)
   tested.record(stream_);
   const std::size_t intersecting = select_flagged(count);
   const TrianglePair* staged_pairs = nullptr;

@@ -42,6 +42,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -119,14 +120,20 @@ class CudaNarrowPhase {
   /// event_builder.hpp: frame 0, certainty kUncertain where the screen left
   /// the candidate undecided) and appended to `events` in candidate order:
   /// only the events cross to the host. `passes` is kScreenOnly or
-  /// kSinglePass (std::invalid_argument otherwise). Waits for the stream.
+  /// kSinglePass (std::invalid_argument otherwise). `while_busy`, when
+  /// given, runs once on this thread while the device works on the first
+  /// round, before the events this object holds deferred are flushed (a
+  /// caller that flushes another object's deferred events there keeps their
+  /// order); it is not called when there is no round. Waits for the stream.
   /// Throws CudaError.
   void vertex_face_events(const Vec3* x_t0, const Vec3* x_t1, const Triangle* triangles,
                           const VertexFaceCandidate* candidates, std::size_t count, const CcdSettings& settings,
-                          CcdPasses passes, std::vector<Event>& events);
+                          CcdPasses passes, std::vector<Event>& events,
+                          const std::function<void()>& while_busy = nullptr);
   /// Edge-edge CCD as edge_edge, the hits built into events as vertex_face_events.
   void edge_edge_events(const Vec3* x_t0, const Vec3* x_t1, const Edge* edges, const EdgeEdgeCandidate* candidates,
-                        std::size_t count, const CcdSettings& settings, CcdPasses passes, std::vector<Event>& events);
+                        std::size_t count, const CcdSettings& settings, CcdPasses passes, std::vector<Event>& events,
+                        const std::function<void()>& while_busy = nullptr);
 
   /// Static test of `count` triangle pairs at positions x (#V): appends the
   /// indices of the intersecting pairs, in order, to `hits` (and the pairs
@@ -148,7 +155,8 @@ class CudaNarrowPhase {
   /// them, and flush_events() appends them to the vector that call was given,
   /// so that a caller can start other device work before the host copies
   /// them (tens of megabytes a step). The next call on this object flushes
-  /// them first; drop_events() forgets them.
+  /// them once its first round's kernels are queued, before it stages its
+  /// own; drop_events() forgets them.
   void set_defer_events(bool defer) { defer_events_ = defer; }
   void flush_events();
   /// As flush_events(), to `events` instead of the vector the call was given.
@@ -189,6 +197,7 @@ class CudaNarrowPhase {
     std::vector<CcdHit>* hits = nullptr;
     std::vector<Candidate>* hit_candidates = nullptr;
     std::vector<Event>* events = nullptr;
+    const std::function<void()>* while_busy = nullptr;  ///< see vertex_face_events; first round only
   };
   struct PairSink {
     std::vector<std::uint32_t>* hits = nullptr;
