@@ -48,7 +48,12 @@
 //    its x_t0 (its own stream, broad phase and narrow phase) once
 //    intersections have been asked for, then the CCD of the step after it,
 //    f + 1 -> f + 2, when f + 2 was prepared since x_t1 (its events staged
-//    once the host has copied this step's). The device then works on while
+//    once the host has copied this step's). When the budget has room for
+//    both detections at once (run_together), the static one runs on a second
+//    worker beside the CCD, each in half of the room, and the device
+//    interleaves their kernels on their two streams; a detection that does
+//    not fit its half is run again alone by the call that asks for it, and
+//    later steps run them one after the other. The device then works on while
 //    the host copies, searches, certifies and orders the step's events and
 //    the scan hands the frame on: intersections() copies the static events
 //    from where the device left them into the caller's list, and the next
@@ -281,6 +286,7 @@ class CudaBackend final : public Backend {
     prepared_slot_ = -1;
     static_narrow_.drop_events();
     static_seen_ = false;
+    together_allowed_ = true;
     scene_ = &scene;
     settings_ = settings;
     settings_.ccd.thickness = settings.thickness;
@@ -345,11 +351,17 @@ class CudaBackend final : public Backend {
     const int found_t0 = find_frame(x_t0);
     // The step detected ahead, when it is this one; else its work is dropped
     // (an error of it too: this step's detection meets its own).
+    // Detected beside the static detection, it may have lacked room that it
+    // has alone: then this step is detected here, and later ones alone too.
     bool ahead = false;
     if (ccd_ahead_.valid()) {
       ahead = found_t0 >= 0 && found_t0 == ccd_ahead_found_.slot_t0 && found_t1 == ccd_ahead_found_.slot_t1;
       try {
         ccd_ahead_.get();
+      } catch (const UsageError&) {
+        if (ahead && !together_) throw;
+        if (together_) together_allowed_ = false;
+        ahead = false;
       } catch (...) {
         if (ahead) throw;
       }
@@ -417,10 +429,18 @@ class CudaBackend final : public Backend {
     stats_.frames = 1;
     static_seen_ = true;
     const int slot = upload_frame(x, find_frame(x), -1);
-    if (static_ahead_.valid() && static_ahead_slot_ == slot) {
+    bool ahead = static_ahead_.valid() && static_ahead_slot_ == slot;
+    if (ahead) {
       static_ahead_slot_ = -1;
-      static_ahead_.get();  // started by collisions(); rethrows what it threw
-    } else {
+      try {
+        static_ahead_.get();  // started by collisions(); rethrows what it threw
+      } catch (const UsageError&) {
+        if (!together_) throw;
+        together_allowed_ = false;  // beside the CCD it lacked room: alone here, and from now on
+        ahead = false;
+      }
+    }
+    if (!ahead) {
       static_ahead_ = {};
       static_ahead_slot_ = -1;
       join_worker();
@@ -506,11 +526,12 @@ class CudaBackend final : public Backend {
   // narrow phases a fifth of it (at most kNarrowRoomCap), shared equally, in
   // rounds of narrow_bytes_per_candidate, the broad phase the rest (its
   // chunks at most kChunkRoomCap). The other detection first gives its
-  // buffers back when it holds more than half.
+  // buffers back when it holds more than half. When both run together
+  // (together_), each gets half of it, and the other's buffers are left alone.
   void use_budget(const Detection& detection, const Detection& other) {
     const std::size_t available = budget_ - bound_bytes();  // bind() checked it is positive
-    if (other.held_bytes() > available / 2) other.release_buffers();
-    const std::size_t taken = other.held_bytes();
+    if (!together_ && other.held_bytes() > available / 2) other.release_buffers();
+    const std::size_t taken = together_ ? available / 2 : other.held_bytes();
     if (taken >= available)
       throw UsageError("the device memory limit of " + std::to_string(budget_) +
                        " bytes is too small for this scene: " + std::to_string(bound_bytes() + taken) +
@@ -533,14 +554,15 @@ class CudaBackend final : public Backend {
   // keeps its buffers when they hold at most half of the room, which spares
   // the next step their allocation; when the limit then refuses this one
   // (UsageError), the other's buffers are given back and `detect` runs again
-  // with all the room it would have alone.
+  // with all the room it would have alone. While both run together the
+  // other's buffers are in use: the UsageError goes to the caller.
   template <class Detect>
   void detect_within_budget(const Detection& detection, const Detection& other, Detect detect) {
     use_budget(detection, other);
     try {
       detect();
     } catch (const UsageError&) {
-      if (other.held_bytes() == 0) throw;
+      if (together_ || other.held_bytes() == 0) throw;
       other.release_buffers();
       use_budget(detection, other);
       detect();
@@ -611,13 +633,25 @@ class CudaBackend final : public Backend {
     found.device_seconds = 1e-3 * device_ms;
   }
 
-  // Starts on the worker thread, on this thread's device, one after the
-  // other: find_static(static_slot) when it is not -1 (static_ahead_), then,
-  // when ccd_t0 is not -1, detect_ccd of the step (ccd_t0, ccd_t1) into
-  // ccd_ahead_found_ (ccd_ahead_), its narrow phases once `copied` says
-  // that the host has copied the events they hold staged.
+  // Whether both detections fit in half of what the topology and frames
+  // leave each, with room to grow: each held (its buffers kept from its last
+  // run) at most a third of it. Neither has run yet: no.
+  bool run_together() {
+    if (!together_allowed_) return false;
+    const std::size_t available = budget_ - bound_bytes();
+    const std::size_t ccd = ccd_detection().held_bytes(), found_static = static_detection().held_bytes();
+    return ccd > 0 && found_static > 0 && 3 * std::max(ccd, found_static) <= available;
+  }
+
+  // Starts, on this thread's device: find_static(static_slot) when it is not
+  // -1 (static_ahead_), and when ccd_t0 is not -1 detect_ccd of the step
+  // (ccd_t0, ccd_t1) into ccd_ahead_found_ (ccd_ahead_), its narrow phases
+  // once `copied` says that the host has copied the events they hold
+  // staged. Both on the worker, one after the other, or, when run_together()
+  // says they fit, the static detection on static_worker_ beside the CCD.
   void start_ahead(int static_slot, int ccd_t0, int ccd_t1, std::shared_future<void> copied) {
     if (static_slot < 0 && ccd_t0 < 0) return;
+    together_ = static_slot >= 0 && ccd_t0 >= 0 && run_together();
     int device = 0;
     SNAG_CUDA_CHECK(cudaGetDevice(&device));
     auto static_done = std::make_shared<std::promise<void>>();
@@ -645,8 +679,10 @@ class CudaBackend final : public Backend {
         done.set_exception(std::current_exception());
       }
     };
+    const bool together = together_;
+    if (together) static_task_ = static_worker_.run([=] { part(*static_done, [&] { find_static(static_slot); }); });
     worker_task_ = worker_.run([=] {
-      if (static_slot >= 0) part(*static_done, [&] { find_static(static_slot); });
+      if (static_slot >= 0 && !together) part(*static_done, [&] { find_static(static_slot); });
       if (ccd_t0 >= 0) {
         part(*ccd_done, [&] {
           detect_ccd(ccd_t0, ccd_t1, ccd_ahead_found_.events, ccd_ahead_found_, [&] { copied.wait(); });
@@ -655,9 +691,11 @@ class CudaBackend final : public Backend {
     });
   }
 
-  // Waits for the worker's task, if any. Its errors are in its parts' futures.
+  // Waits for the workers' tasks, if any. Their errors are in their parts' futures.
   void join_worker() {
     if (worker_task_.valid()) worker_task_.wait();
+    if (static_task_.valid()) static_task_.wait();
+    together_ = false;
   }
 
   // Waits for the worker's task and forgets what it found: a slot it read
@@ -751,13 +789,17 @@ class CudaBackend final : public Backend {
   EventScratch event_scratch_;  ///< the settle's and the sort's room, kept from step to step
   bool static_seen_ = false;          ///< intersections() was called since bind()
   std::future<void> worker_task_;     ///< what start_ahead() gave the worker
+  std::future<void> static_task_;     ///< what start_ahead() gave static_worker_
+  bool together_ = false;             ///< the detections ahead run at once, each in half of the room (till joined)
+  bool together_allowed_ = true;      ///< no detection ahead lacked room beside the other since bind()
   std::future<void> static_ahead_;    ///< find_static() running ahead, when valid
   int static_ahead_slot_ = -1;
   std::future<void> ccd_ahead_;  ///< detect_ccd() of the next step running ahead, when valid
   int prepared_slot_ = -1;       ///< the slot of the frame prepare() was given last, if no step used it yet
   PipelineStats stats_;
   std::size_t budget_ = 0;  ///< device bytes the back end may hold
-  Worker worker_;           ///< runs static_ahead_ and ccd_ahead_; last, so that it stops first
+  Worker static_worker_;    ///< runs static_ahead_ beside ccd_ahead_ (together_); last, so that it stops first
+  Worker worker_;           ///< runs ccd_ahead_ and, one after the other, static_ahead_
 };
 
 }  // namespace

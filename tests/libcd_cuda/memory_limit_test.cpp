@@ -6,7 +6,9 @@
 // limit too small for the topology, for a stage before the pair tests (checked
 // before the stage allocates) or for one chunk is a UsageError (exit 2 from
 // snag-scan), never a crash; a limit at which each detection fits alone
-// holds the whole scan. Oracles: the unchunked GPU run and the CPU back end.
+// holds the whole scan, and a scan whose detections run together or one
+// after the other, by the limit, gives the same events. Oracles: the
+// unchunked GPU run and the CPU back end.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -331,6 +333,67 @@ TEST_F(MemoryLimit, ClothBallScanFitsUnderTheLimitAtWhichEachDetectionFitsAlone)
     test::expect_same_events(unlimited.events, limited.events, where);
   } catch (const UsageError& error) {
     ADD_FAILURE() << where << ": " << error.what();
+  }
+}
+
+/// The events of a scan of `frames` frames (92, 93, 92, ...) in a scan's
+/// order of calls: the frame after the step prepared, the step's collisions,
+/// then its first frame's intersections.
+std::vector<Event> scan_in_order(Backend& backend, const ClothBallStep& step, std::size_t frames) {
+  auto x = [&](std::size_t f) -> const std::vector<Vec3>& {
+    return f % 2 == 0 ? step.m92.positions : step.m93.positions;
+  };
+  std::vector<Event> events;
+  for (std::size_t f = 0; f < frames; ++f) {
+    if (f + 2 < frames) backend.prepare(x(f + 2));
+    if (f + 1 < frames) backend.collisions(x(f), x(f + 1), events);
+    backend.intersections(x(f), events);
+  }
+  return events;
+}
+
+LimitedRun scan_limited(const ClothBallStep& step, std::size_t limit, std::size_t frames) {
+  DeviceMemoryTracker& tracker = DeviceMemoryTracker::instance();
+  const std::size_t before = tracker.current_bytes();
+  tracker.reset_peak();
+  LimitedRun run;
+  {
+    auto gpu = make_cuda_backend();
+    BackendSettings settings;
+    settings.device_memory_bytes = limit;
+    gpu->bind(step.scene, settings);
+    run.events = scan_in_order(*gpu, step, frames);
+  }
+  run.peak_bytes = tracker.peak_bytes() - before;
+  return run;
+}
+
+// In a scan the static detection of a frame runs ahead beside the CCD of the
+// step after it when each fits in half of the room, else after it. Under
+// limits from half the unlimited scan's peak to four times it (one after
+// the other, each in half of the room, and the limits between), a scan of
+// five frames gives the unlimited scan's events, which are the CPU's, within
+// the limit; a limit under the unlimited peak may be refused as too small.
+TEST_F(MemoryLimit, ClothBallScanUnderLimitsGivesTheEventsOfTheUnlimitedScanAndOfTheCpu) {
+  const ClothBallStep step;
+  constexpr std::size_t kFrames = 5;
+  const LimitedRun unlimited = scan_limited(step, 0, kFrames);
+  ASSERT_GT(unlimited.events.size(), 200000u);
+  auto cpu = make_cpu_backend();
+  cpu->bind(step.scene, BackendSettings{});
+  test::expect_same_events(scan_in_order(*cpu, step, kFrames), unlimited.events, "unlimited scan against the CPU");
+
+  for (const double times : {0.5, 1.0, 1.5, 2.0, 3.0, 4.0}) {
+    const auto limit = static_cast<std::size_t>(times * static_cast<double>(unlimited.peak_bytes));
+    const std::string where = "limit " + std::to_string(limit) + " bytes (" + std::to_string(times) + " x the peak)";
+    try {
+      const LimitedRun limited = scan_limited(step, limit, kFrames);
+      EXPECT_LE(limited.peak_bytes, limit) << where;
+      test::expect_same_events(unlimited.events, limited.events, where);
+    } catch (const UsageError& error) {
+      EXPECT_NE(std::string(error.what()).find("too small"), std::string::npos) << where << ": " << error.what();
+      EXPECT_LT(times, 1.0) << where << ": " << error.what();
+    }
   }
 }
 
