@@ -311,19 +311,35 @@ void RegionBuilder::add_regions(const std::vector<Event>& events, const std::vec
     region.bounds = sums[r].bounds;
     region.toi = sums[r].toi;
   }
-  // Faces in ascending order, so that each region's lists come sorted.
+  // Each face's region (its root's) and, for intersections,
+  // the box of its corners, on all threads; then the faces listed in
+  // ascending order on this one, so that each region's lists come sorted,
+  // and its box grown by theirs (the same box as corner by corner).
+  const bool face_boxes = kind == EventKind::kIntersection;
+  touched_region_.resize(touched_.size());
+  touched_box_.resize(face_boxes ? touched_.size() : 0);
+  tbb::parallel_for(all_faces, [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      touched_region_[k] = region_of_root_[touched_root_[k]];
+      if (!face_boxes) continue;
+      Bounds box = empty_bounds();
+      for (Index v : scene_.triangles()[touched_[k]]) grow(box, x[v]);
+      touched_box_[k] = box;
+    }
+  });
   const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
   const Index end_a = scene_.triangle_offset(object_a + 1);
   for (std::size_t k = 0; k < touched_.size(); ++k) {
-    RegionRecord& region = regions[region_of_root_[touched_root_[k]]];
+    RegionRecord& region = regions[touched_region_[k]];
     const Index f = touched_[k];
     if (f >= base_a && f < end_a) {
       region.faces_a.push_back(f - base_a);
     } else {
       region.faces_b.push_back(f - base_b);
     }
-    if (kind == EventKind::kIntersection) {
-      for (Index v : scene_.triangles()[f]) grow(region.bounds, x[v]);
+    if (face_boxes) {
+      grow(region.bounds, touched_box_[k].lo);
+      grow(region.bounds, touched_box_[k].hi);
     }
   }
 }

@@ -87,6 +87,8 @@ class RegionBuilder {
   std::vector<std::size_t> region_of_root_;                    // by face: set at the group's roots
   std::vector<std::size_t> marked_before_;                     // faces marked in the words before each block
   std::vector<Index> touched_, touched_root_;                  // the group's faces, ascending, and their roots
+  std::vector<std::size_t> touched_region_;                    // the region of each of the group's faces
+  std::vector<Bounds> touched_box_;                            // intersections: the box of each of the group's faces
   std::vector<Index> event_first_face_, event_second_face_;  // a face of each element of the group's events
   std::vector<Index> event_root_;                             // the root of each of the group's events
   std::vector<std::size_t> event_region_;                     // the region of each of the group's events
