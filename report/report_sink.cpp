@@ -74,13 +74,35 @@ EventRecord ReportSink::event_record(const Event& e) const {
   return r;
 }
 
+ReportSink::~ReportSink() {
+  if (joining_.valid()) joining_.wait();
+}
+
+void ReportSink::wait_for_join() {
+  if (joining_.valid()) joining_.get();
+}
+
 void ReportSink::frame(ScannedFrame& frame) {
   if (redecide_ && frame.x_next) redecide_(*frame.x, *frame.x_next, *frame.events);
-  digester_.digest(frame, digest_);
-  join(digest_);
+  FrameDigest& digest = digests_[next_digest_];
+  next_digest_ = 1 - next_digest_;
+  digester_.digest(frame, digest);  // while the frame before is joined
+  wait_for_join();
+  // Listed events are read from the scan's list, which is the scan's again
+  // once this returns.
+  if (events_to_list(header_.settings, trailer_.listed, digest.kept) > 0) {
+    join_now(digest);
+    return;
+  }
+  joining_ = joiner_.run([this, &digest] { join_arena_.execute([&] { join_now(digest); }); });
 }
 
 void ReportSink::join(FrameDigest& digest) {
+  wait_for_join();
+  join_now(digest);
+}
+
+void ReportSink::join_now(FrameDigest& digest) {
   const std::size_t listed = events_to_list(header_.settings, trailer_.listed, digest.kept);
   if (listed > digest.listable) throw std::logic_error("a frame's digest lacks events that the report lists");
   const FrameRecord& record = digest.record;
@@ -151,6 +173,7 @@ void ReportSink::end_tracks(std::vector<TrackRecord>& ended) {
 }
 
 const Trailer& ReportSink::finish(std::string stages_json, std::string timing_json) {
+  wait_for_join();
   ended_.clear();
   tracks_.finish(ended_);
   end_tracks(ended_);

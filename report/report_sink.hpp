@@ -2,15 +2,23 @@
 // ScanSink), digests it (rules and regions: frame_digest.hpp), joins the
 // digest to the run (region ids, tracks, the event cap, totals), writes the
 // frame's records, and keeps only running totals, so that the scan's memory
-// does not grow with the number of frames or events.
+// does not grow with the number of frames or events. A frame that lists no
+// events is joined on a thread of the sink's own while frame() digests the
+// next one (the join reads only the digest); one that lists events reads the
+// scan's list and is joined before frame() returns.
 #pragma once
 
+#include <tbb/task_arena.h>
+
+#include <array>
 #include <cstddef>
 #include <functional>
+#include <future>
 #include <map>
 #include <tuple>
 #include <vector>
 
+#include "libcd/core/worker_thread.hpp"
 #include "libcd/pipeline/scan.hpp"
 #include "report/frame_digest.hpp"
 #include "report/regions.hpp"
@@ -29,7 +37,13 @@ class ReportSink : public ScanSink {
   /// written at once; `rules` and `writer` must outlive the sink.
   ReportSink(const Scene& scene, const Header& header, const RuleSet& rules, ReportWriter* writer,
              Redecide redecide = {});
+  /// Waits for the frame being joined, if any (what it throws is dropped:
+  /// finish() was not reached).
+  ~ReportSink() override;
+  ReportSink(const ReportSink&) = delete;
+  ReportSink& operator=(const ReportSink&) = delete;
 
+  /// Rethrows what the join of an earlier frame threw.
   void frame(ScannedFrame& frame) override;
   /// Joins a frame digested elsewhere (with this sink's scene and rules) as
   /// frame() joins its own digest: the frames of a run, in order, whether
@@ -46,6 +60,9 @@ class ReportSink : public ScanSink {
 
  private:
   using PairKey = std::tuple<int, std::size_t, std::size_t>;  // kind, object a <= b
+  /// Waits for the frame being joined, if any; rethrows what it threw.
+  void wait_for_join();
+  void join_now(FrameDigest& digest);
   PairSummary& pair(EventKind kind, std::size_t a, std::size_t b);
   void end_tracks(std::vector<TrackRecord>& ended);
   EventRecord event_record(const Event& e) const;
@@ -60,9 +77,16 @@ class ReportSink : public ScanSink {
   std::size_t next_region_ = 0;
   Trailer trailer_;
   std::map<PairKey, PairSummary> pairs_;
-  // Scratch reused frame after frame.
-  FrameDigest digest_;
+  // Scratch reused frame after frame: a digest being joined, the other
+  // being made.
+  std::array<FrameDigest, 2> digests_;
+  std::size_t next_digest_ = 0;
   std::vector<TrackRecord> ended_;
+  // The join's parallel work (the tracks) runs in an arena of its own, apart
+  // from the digest's on the sink's thread.
+  tbb::task_arena join_arena_;
+  std::future<void> joining_;  ///< the frame joined on joiner_, while valid
+  WorkerThread joiner_;        ///< last: it stops first
 };
 
 }  // namespace snag::report

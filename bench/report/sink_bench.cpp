@@ -2,8 +2,9 @@
 // the scan. Scans the step t0 -> t1 -> t0 once on the CPU, keeps each
 // frame's events and positions, then feeds a ReportSink the frames
 // t0 t1 t0 t1 ... (as snag-scan --sequence t0 t1 t0 t1 ... does) and times
-// each frame() call: wall and CPU time of the process (the sink's thread and
-// the threads it formats events on; nothing else runs then), so that the
+// each frame() call and the finish() that waits for the last frame's join:
+// wall and CPU time of the process (the sink's threads and the threads it
+// formats events on; nothing else runs then), so that the
 // number holds on a machine that other work shares. The report goes to
 // /dev/null. Beside the whole sink, the same frames' regions (RegionBuilder,
 // every event in a region: the sink with no rules) and tracks (TrackBuilder)
@@ -137,7 +138,12 @@ int run(int argc, char** argv) {
       cpu += process_cpu_seconds() - cpu_start;
       wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     }
+    // The last frame's join may still run: finish() waits for it.
+    const auto finish_start = std::chrono::steady_clock::now();
+    const double finish_cpu = process_cpu_seconds();
     sink.finish("{}", "{}");
+    cpu += process_cpu_seconds() - finish_cpu;
+    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - finish_start).count();
     wall_ms.push_back(1e3 * wall / static_cast<double>(frames));
     cpu_ms.push_back(1e3 * cpu / static_cast<double>(frames));
 

@@ -67,17 +67,15 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
 #include <cstring>
 #include <functional>
 #include <future>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <utility>
 
 #include "libcd/core/error.hpp"
+#include "libcd/core/worker_thread.hpp"
 #include "libcd/cuda/cuda_broad_phase.cuh"
 #include "libcd/cuda/cuda_check.cuh"
 #include "libcd/cuda/cuda_event.cuh"
@@ -139,56 +137,6 @@ class Stream {
 
  private:
   cudaStream_t stream_ = nullptr;
-};
-
-/// A thread that runs one task at a time, kept for the back end's life: a
-/// thread started for every frame, with its first CUDA call, took nearly a
-/// millisecond before its first kernel (cloth_ball on an H100).
-class Worker {
- public:
-  Worker() : thread_([this] { loop(); }) {}
-  ~Worker() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_one();
-    thread_.join();
-  }
-  Worker(const Worker&) = delete;
-  Worker& operator=(const Worker&) = delete;
-
-  /// Runs `task` on the thread; the future holds what it threw. The future
-  /// of the previous task must have been waited for.
-  std::future<void> run(std::function<void()> task) {
-    std::packaged_task<void()> packaged(std::move(task));
-    std::future<void> done = packaged.get_future();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      task_ = std::move(packaged);
-    }
-    wake_.notify_one();
-    return done;
-  }
-
- private:
-  void loop() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    for (;;) {
-      wake_.wait(lock, [this] { return stop_ || task_.valid(); });
-      if (!task_.valid()) return;  // stopped
-      std::packaged_task<void()> task = std::move(task_);
-      lock.unlock();
-      task();
-      lock.lock();
-    }
-  }
-
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  std::packaged_task<void()> task_;  ///< valid while a task waits for the thread
-  bool stop_ = false;
-  std::thread thread_;  ///< last: it starts once the members above are
 };
 
 /// One frame of positions on the device, with a pinned copy of what it holds.
@@ -798,8 +746,11 @@ class CudaBackend final : public Backend {
   int prepared_slot_ = -1;       ///< the slot of the frame prepare() was given last, if no step used it yet
   PipelineStats stats_;
   std::size_t budget_ = 0;  ///< device bytes the back end may hold
-  Worker static_worker_;    ///< runs static_ahead_ beside ccd_ahead_ (together_); last, so that it stops first
-  Worker worker_;           ///< runs ccd_ahead_ and, one after the other, static_ahead_
+  // Threads kept for the back end's life: a thread started for every frame,
+  // with its first CUDA call, took nearly a millisecond before its first
+  // kernel (cloth_ball on an H100). Last, so that they stop first.
+  WorkerThread static_worker_;  ///< runs static_ahead_ beside ccd_ahead_ (together_)
+  WorkerThread worker_;         ///< runs ccd_ahead_ and, one after the other, static_ahead_
 };
 
 }  // namespace
