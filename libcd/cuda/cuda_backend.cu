@@ -307,8 +307,8 @@ class CudaBackend final : public Backend {
       try {
         ccd_ahead_.get();
       } catch (const UsageError&) {
-        if (ahead && !together_) throw;
-        if (together_) together_allowed_ = false;
+        if (ahead && !ccd_ahead_together_) throw;
+        if (ccd_ahead_together_) together_allowed_ = false;
         ahead = false;
       } catch (...) {
         if (ahead) throw;
@@ -383,7 +383,7 @@ class CudaBackend final : public Backend {
       try {
         static_ahead_.get();  // started by collisions(); rethrows what it threw
       } catch (const UsageError&) {
-        if (!together_) throw;
+        if (!static_ahead_together_) throw;
         together_allowed_ = false;  // beside the CCD it lacked room: alone here, and from now on
         ahead = false;
       }
@@ -608,9 +608,11 @@ class CudaBackend final : public Backend {
       wait_for(static_stream_.get(), static_slot);
       static_ahead_ = static_done->get_future();
       static_ahead_slot_ = static_slot;
+      static_ahead_together_ = together_;
     }
     if (ccd_t0 >= 0) {
       ccd_ahead_ = ccd_done->get_future();
+      ccd_ahead_together_ = together_;
       std::vector<Event> room = std::move(ccd_ahead_found_.events);  // kept: a large step's events fill it again
       room.clear();
       ccd_ahead_found_ = CcdFound{};
@@ -742,7 +744,9 @@ class CudaBackend final : public Backend {
   bool together_allowed_ = true;      ///< no detection ahead lacked room beside the other since bind()
   std::future<void> static_ahead_;    ///< find_static() running ahead, when valid
   int static_ahead_slot_ = -1;
+  bool static_ahead_together_ = false;  ///< static_ahead_ ran beside the CCD (together_ when it started)
   std::future<void> ccd_ahead_;  ///< detect_ccd() of the next step running ahead, when valid
+  bool ccd_ahead_together_ = false;  ///< ccd_ahead_ ran beside the static detection
   int prepared_slot_ = -1;       ///< the slot of the frame prepare() was given last, if no step used it yet
   PipelineStats stats_;
   std::size_t budget_ = 0;  ///< device bytes the back end may hold
