@@ -202,35 +202,51 @@ TEST_F(MemoryLimit, BudgetTooSmallForClothBallBoundsOrSubdivisionIsRefusedBefore
   }
 }
 
-/// The bytes the CUDA back end's buffers held at most over a scan of
-/// frame 92, step 92 -> 93, frame 93, and its events, under `limit` (0: none).
+/// A CUDA back end bound to the cloth_ball scene under `limit` (0: none).
+std::unique_ptr<Backend> bound_backend(const ClothBallStep& step, std::size_t limit) {
+  auto gpu = make_cuda_backend();
+  BackendSettings settings;
+  settings.device_memory_bytes = limit;
+  gpu->bind(step.scene, settings);
+  return gpu;
+}
+
+/// The events `calls` gets from a back end bound under `limit`, and the
+/// bytes the back end's buffers held at most meanwhile.
 struct LimitedRun {
   std::vector<Event> events;
   std::size_t peak_bytes = 0;
 };
 
-LimitedRun run_limited(const ClothBallStep& step, std::size_t limit) {
+template <class Calls>
+LimitedRun run_limited(const ClothBallStep& step, std::size_t limit, Calls calls) {
   DeviceMemoryTracker& tracker = DeviceMemoryTracker::instance();
   const std::size_t before = tracker.current_bytes();
   tracker.reset_peak();
   LimitedRun run;
   {
-    auto gpu = make_cuda_backend();
-    BackendSettings settings;
-    settings.device_memory_bytes = limit;
-    gpu->bind(step.scene, settings);
-    std::vector<Event> frame92, collisions, frame93;
-    gpu->intersections(step.m92.positions, frame92);
-    gpu->collisions(step.m92.positions, step.m93.positions, collisions);
-    gpu->intersections(step.m93.positions, frame93);
-    // A second step: the plan of the first, the buffers given back or kept.
-    std::vector<Event> again;
-    gpu->collisions(step.m93.positions, step.m92.positions, again);
-    for (const auto* part : {&frame92, &collisions, &frame93, &again})
-      run.events.insert(run.events.end(), part->begin(), part->end());
+    auto gpu = bound_backend(step, limit);
+    run.events = calls(*gpu);
   }
   run.peak_bytes = tracker.peak_bytes() - before;
   return run;
+}
+
+/// Frame 92, step 92 -> 93, frame 93 and step 93 -> 92 under `limit`.
+LimitedRun run_limited(const ClothBallStep& step, std::size_t limit) {
+  return run_limited(step, limit, [&](Backend& gpu) {
+    std::vector<Event> frame92, collisions, frame93;
+    gpu.intersections(step.m92.positions, frame92);
+    gpu.collisions(step.m92.positions, step.m93.positions, collisions);
+    gpu.intersections(step.m93.positions, frame93);
+    // A second step: the plan of the first, the buffers given back or kept.
+    std::vector<Event> again;
+    gpu.collisions(step.m93.positions, step.m92.positions, again);
+    std::vector<Event> events;
+    for (const auto* part : {&frame92, &collisions, &frame93, &again})
+      events.insert(events.end(), part->begin(), part->end());
+    return events;
+  });
 }
 
 TEST_F(MemoryLimit, BackEndOnClothBallUnderALimitGivesTheEventsOfTheUnlimitedRunAndOfTheCpu) {
@@ -300,21 +316,14 @@ std::size_t smallest_limit(std::size_t high, Run run) {
 TEST_F(MemoryLimit, ClothBallScanFitsUnderTheLimitAtWhichEachDetectionFitsAlone) {
   const ClothBallStep step;
   const LimitedRun unlimited = run_limited(step, 0);
-  auto bound = [&](std::size_t limit) {
-    auto gpu = make_cuda_backend();
-    BackendSettings settings;
-    settings.device_memory_bytes = limit;
-    gpu->bind(step.scene, settings);
-    return gpu;
-  };
   auto collisions_alone = [&](std::size_t limit) {
-    auto gpu = bound(limit);
+    auto gpu = bound_backend(step, limit);
     std::vector<Event> events;
     gpu->collisions(step.m92.positions, step.m93.positions, events);
     gpu->collisions(step.m93.positions, step.m92.positions, events);
   };
   auto intersections_alone = [&](std::size_t limit) {
-    auto gpu = bound(limit);
+    auto gpu = bound_backend(step, limit);
     std::vector<Event> events;
     gpu->intersections(step.m92.positions, events);
     gpu->intersections(step.m93.positions, events);
@@ -353,19 +362,7 @@ std::vector<Event> scan_in_order(Backend& backend, const ClothBallStep& step, st
 }
 
 LimitedRun scan_limited(const ClothBallStep& step, std::size_t limit, std::size_t frames) {
-  DeviceMemoryTracker& tracker = DeviceMemoryTracker::instance();
-  const std::size_t before = tracker.current_bytes();
-  tracker.reset_peak();
-  LimitedRun run;
-  {
-    auto gpu = make_cuda_backend();
-    BackendSettings settings;
-    settings.device_memory_bytes = limit;
-    gpu->bind(step.scene, settings);
-    run.events = scan_in_order(*gpu, step, frames);
-  }
-  run.peak_bytes = tracker.peak_bytes() - before;
-  return run;
+  return run_limited(step, limit, [&](Backend& gpu) { return scan_in_order(gpu, step, frames); });
 }
 
 // In a scan the static detection of a frame runs ahead beside the CCD of the
@@ -385,10 +382,7 @@ TEST_F(MemoryLimit, ClothBallScanUnderLimitsGivesTheEventsOfTheUnlimitedScanAndO
   test::expect_same_events(scan_in_order(*cpu, step, kFrames), unlimited.events, "unlimited scan against the CPU");
 
   auto detection_alone = [&](std::size_t limit, bool static_detection) {
-    auto gpu = make_cuda_backend();
-    BackendSettings settings;
-    settings.device_memory_bytes = limit;
-    gpu->bind(step.scene, settings);
+    auto gpu = bound_backend(step, limit);
     std::vector<Event> events;
     if (static_detection) {
       gpu->intersections(step.m92.positions, events);
