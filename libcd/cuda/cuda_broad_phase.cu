@@ -204,7 +204,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // registration's scratch are given back now.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   if (!adaptive_)
-    order_registrations_on_device(b.subdivision.leaves.data(), b.cells, b.pairs, stream,
+    order_registrations_on_device(b.subdivision.leaves.data(), triangle_count, b.cells, b.pairs, stream,
                                   budget_check("copy of the leaves for the pair tests"));
   if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
 
@@ -276,9 +276,8 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
     CudaEvent features_start, features_done;
     features_start.record(stream);
     representative_feature_pairs_on_device(
-        b.topology, b.bounds.triangles.data(), b.bounds.edges.data(), b.bounds.vertices.data(),
-        scene_->vertex_count(), scene_->edges().size(), pairs, pair_count, candidate_room_, b.features, stream,
-        counts,
+        b.topology, b.bounds, scene_->vertex_count(), scene_->edges().size(), pairs, pair_count, candidate_room_,
+        b.features, stream, counts,
         [&](const VertexFaceCandidate* vf, std::size_t vf_count, const EdgeEdgeCandidate* ee, std::size_t ee_count) {
           features_done.record(stream);
           SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
@@ -367,6 +366,8 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   add("bounds: triangle float boxes", b.bounds.triangle_boxes.capacity_bytes());
   add("bounds: edge DOPs", b.bounds.edges.capacity_bytes());
   add("bounds: vertex DOPs", b.bounds.vertices.capacity_bytes());
+  add("bounds: edge and vertex float boxes",
+      b.bounds.edge_boxes.capacity_bytes() + b.bounds.vertex_boxes.capacity_bytes());
   add("bounds: radii, scratch", b.bounds.triangle_radii.capacity_bytes() + b.bounds.temp.capacity_bytes() +
                                     b.bounds.box.capacity_bytes() + b.bounds.max_radius.capacity_bytes() +
                                     b.bounds.radius_sum.capacity_bytes());

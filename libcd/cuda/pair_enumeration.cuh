@@ -83,12 +83,13 @@ struct PairChunkPlan {
 };
 
 /// Copies the registered leaves into pairs.registered, cell by cell and each
-/// cell's by root triangle (stable), which is all the pair tests read of them:
-/// the leaves and the registration's scratch may be given back after it (in
-/// stream order). `check` is told what its buffers add before they allocate
-/// (it may throw). Throws CudaError, or what `check` throws.
-void order_registrations_on_device(const Leaf* leaves, const DeviceCellLists& lists, DevicePairs& pairs,
-                                   cudaStream_t stream, const GrowthCheck& check = {});
+/// cell's by root triangle (stable; roots below triangle_count), which is all
+/// the pair tests read of them: the leaves and the registration's scratch may
+/// be given back after it (in stream order). `check` is told what its buffers
+/// add before they allocate (it may throw). Throws CudaError, or what `check`
+/// throws.
+void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const DeviceCellLists& lists,
+                                   DevicePairs& pairs, cudaStream_t stream, const GrowthCheck& check = {});
 
 /// Runs every test of the registered cells (pairs.registered, from
 /// order_registrations_on_device) and hands the unique triangle

@@ -51,20 +51,24 @@ __global__ void triangle_bounds_kernel(const Triangle* tris, std::size_t n, cons
 }
 
 __global__ void edge_bounds_kernel(const Edge* edges, std::size_t n, const Vec3* x_t0, const Vec3* x_t1,
-                                   double thickness, Dop18* dops) {
+                                   double thickness, Dop18* dops, FloatBox* boxes) {
   const std::uint64_t e = thread_item();
   if (e >= n) return;
   const Edge g = edges[e];
   const Vec3 c_t0[2] = {x_t0[g[0]], x_t0[g[1]]};
   const Vec3 c_t1[2] = {x_t1[g[0]], x_t1[g[1]]};
-  dops[e] = swept_dop(c_t0, c_t1, 2, thickness);
+  const Dop18 dop = swept_dop(c_t0, c_t1, 2, thickness);
+  dops[e] = dop;
+  boxes[e] = float_box_of(dop);
 }
 
-__global__ void vertex_bounds_kernel(std::size_t n, const Vec3* x_t0, const Vec3* x_t1, double thickness,
-                                     Dop18* dops) {
+__global__ void vertex_bounds_kernel(std::size_t n, const Vec3* x_t0, const Vec3* x_t1, double thickness, Dop18* dops,
+                                     FloatBox* boxes) {
   const std::uint64_t v = thread_item();
   if (v >= n) return;
-  dops[v] = swept_dop(&x_t0[v], &x_t1[v], 1, thickness);
+  const Dop18 dop = swept_dop(&x_t0[v], &x_t1[v], 1, thickness);
+  dops[v] = dop;
+  boxes[v] = float_box_of(dop);
 }
 
 }  // namespace
@@ -75,14 +79,17 @@ void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t t
                                         cudaStream_t stream, Vec3& scene_lo, Vec3& scene_hi, double& max_radius,
                                         const GrowthCheck& check) {
   check_growth(check, out.triangles.growth_bytes(triangle_count) + out.triangle_boxes.growth_bytes(triangle_count) +
-                          out.triangle_radii.growth_bytes(triangle_count) +
-                          out.edges.growth_bytes(edge_count) + out.vertices.growth_bytes(vertex_count) +
-                          out.box.growth_bytes(4) + out.max_radius.growth_bytes(1));
+                          out.triangle_radii.growth_bytes(triangle_count) + out.edges.growth_bytes(edge_count) +
+                          out.vertices.growth_bytes(vertex_count) + out.edge_boxes.growth_bytes(edge_count) +
+                          out.vertex_boxes.growth_bytes(vertex_count) + out.box.growth_bytes(4) +
+                          out.max_radius.growth_bytes(1));
   out.triangles.resize(triangle_count);
   out.triangle_boxes.resize(triangle_count);
   out.triangle_radii.resize(triangle_count);
   out.edges.resize(edge_count);
   out.vertices.resize(vertex_count);
+  out.edge_boxes.resize(edge_count);
+  out.vertex_boxes.resize(vertex_count);
   out.box.resize(4);
   out.max_radius.resize(1);
   if (triangle_count > 0) {
@@ -92,13 +99,13 @@ void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t t
     SNAG_CUDA_CHECK_LAUNCH();
   }
   if (edge_count > 0) {
-    edge_bounds_kernel<<<blocks_for(edge_count), detail::kBlockSize, 0, stream>>>(edges, edge_count, x_t0, x_t1,
-                                                                                 thickness, out.edges.data());
+    edge_bounds_kernel<<<blocks_for(edge_count), detail::kBlockSize, 0, stream>>>(
+        edges, edge_count, x_t0, x_t1, thickness, out.edges.data(), out.edge_boxes.data());
     SNAG_CUDA_CHECK_LAUNCH();
   }
   if (vertex_count > 0) {
-    vertex_bounds_kernel<<<blocks_for(vertex_count), detail::kBlockSize, 0, stream>>>(vertex_count, x_t0, x_t1,
-                                                                                     thickness, out.vertices.data());
+    vertex_bounds_kernel<<<blocks_for(vertex_count), detail::kBlockSize, 0, stream>>>(
+        vertex_count, x_t0, x_t1, thickness, out.vertices.data(), out.vertex_boxes.data());
     SNAG_CUDA_CHECK_LAUNCH();
   }
 

@@ -25,6 +25,8 @@ struct DevicePrimitiveBounds {
   DeviceBuffer<FloatBox> triangle_boxes;  ///< #F, float_box_of(triangles[f]): the pair tests' first test
   DeviceBuffer<Dop18> edges;              ///< #E
   DeviceBuffer<Dop18> vertices;           ///< #V
+  DeviceBuffer<FloatBox> edge_boxes;      ///< #E, float_box_of(edges[e]): the feature culling's first test
+  DeviceBuffer<FloatBox> vertex_boxes;    ///< #V, float_box_of(vertices[v])
   DeviceBuffer<double> triangle_radii;    ///< #F, thickness included
   DeviceBuffer<Vec3> box;                 ///< 4: lo/hi of x_t0, lo/hi of x_t1 (reduction results)
   DeviceBuffer<double> max_radius;        ///< 1
@@ -32,11 +34,20 @@ struct DevicePrimitiveBounds {
   DeviceBuffer<unsigned char> temp;       ///< CUB scratch
 
   explicit DevicePrimitiveBounds(cudaStream_t stream)
-      : triangles(0, stream), triangle_boxes(0, stream), edges(0, stream), vertices(0, stream),
-        triangle_radii(0, stream), box(0, stream), max_radius(0, stream), radius_sum(0, stream), temp(0, stream) {}
+      : triangles(0, stream),
+        triangle_boxes(0, stream),
+        edges(0, stream),
+        vertices(0, stream),
+        edge_boxes(0, stream),
+        vertex_boxes(0, stream),
+        triangle_radii(0, stream),
+        box(0, stream),
+        max_radius(0, stream),
+        radius_sum(0, stream),
+        temp(0, stream) {}
 };
 
-/// Computes the DOPs and radii of all primitives, the triangles' float boxes,
+/// Computes the DOPs and radii of all primitives, their float boxes,
 /// the scene box (inflated by thickness and rounding pad exactly as
 /// compute_primitive_bounds) and the largest radius. Waits for the stream
 /// (the box and maximum come to the host).

@@ -34,12 +34,17 @@ struct FeatureInputs {
   const Dop18* triangle_dops;
   const Dop18* edge_dops;
   const Dop18* vertex_dops;
+  const FloatBox* triangle_boxes;
+  const FloatBox* edge_boxes;
+  const FloatBox* vertex_boxes;
   const TrianglePair* pairs;
 };
 
 /// The CPU's loop body for one triangle pair: counts its feature pairs
 /// before and after culling, and returns the bits of those the culling kept
-/// (kept_bit: vertex-face 3 s + i, edge-edge 6 + 3 i + j).
+/// (kept_bit: vertex-face 3 s + i, edge-edge 6 + 3 i + j). The DOPs' float
+/// boxes are tested first: where they are apart the DOPs are (float_box.hpp),
+/// and most culled pairs are apart in x, y or z already.
 __device__ std::uint16_t feature_pairs_of(const FeatureInputs& in, std::uint64_t p, unsigned& vf_before,
                                           unsigned& vf_after, unsigned& ee_before, unsigned& ee_after) {
   std::uint16_t kept = 0;
@@ -52,7 +57,8 @@ __device__ std::uint16_t feature_pairs_of(const FeatureInputs& in, std::uint64_t
       const Index v = ta[i];
       if (is_corner(tb, v)) continue;
       ++vf_before;
-      if (dop_overlap(in.vertex_dops[v], in.triangle_dops[b])) {
+      if (float_boxes_may_overlap(in.vertex_boxes[v], in.triangle_boxes[b]) &&
+          dop_overlap(in.vertex_dops[v], in.triangle_dops[b])) {
         kept |= static_cast<std::uint16_t>(1u << (3 * s + i));
         ++vf_after;
       }
@@ -68,7 +74,8 @@ __device__ std::uint16_t feature_pairs_of(const FeatureInputs& in, std::uint64_t
       const Edge ga = in.edges[ea], gb = in.edges[eb];
       if (ga[0] == gb[0] || ga[0] == gb[1] || ga[1] == gb[0] || ga[1] == gb[1]) continue;
       ++ee_before;
-      if (dop_overlap(in.edge_dops[ea], in.edge_dops[eb])) {
+      if (float_boxes_may_overlap(in.edge_boxes[ea], in.edge_boxes[eb]) &&
+          dop_overlap(in.edge_dops[ea], in.edge_dops[eb])) {
         kept |= static_cast<std::uint16_t>(1u << (6 + 3 * i + j));
         ++ee_after;
       }
@@ -95,34 +102,43 @@ __global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_
   detail::warp_count(ee_before, &counters[1]);
 }
 
+/// The bits of a feature key's lower id: face ids below the vertex in a
+/// vertex-face key, the larger edge below the smaller in an edge-edge key
+/// (radix_bits of the largest id), so that keys ascend as (vertex, face) and
+/// (edge_a, edge_b) do and their radix sort takes fewer passes than with the
+/// lower id in 32 bits.
+struct FeatureKeyBits {
+  int face, edge;
+};
+
 /// Writes the keys of the kept feature pairs of pairs [first, first + n)
-/// (vertex << 32 | face, edge_a << 32 | edge_b with edge_a < edge_b), in the
-/// order feature_pairs_of finds them, at their offsets less those of pair
-/// `first`.
+/// (vertex << bits.face | face, edge_a << bits.edge | edge_b with edge_a <
+/// edge_b), in the order feature_pairs_of finds them, at their offsets less
+/// those of pair `first`.
 __global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t n, const std::uint16_t* kept,
-                             const std::uint64_t* vf_offset, const std::uint64_t* ee_offset, std::uint64_t* vf_keys,
-                             std::uint64_t* ee_keys) {
+                             const std::uint64_t* vf_offset, const std::uint64_t* ee_offset, FeatureKeyBits bits,
+                             std::uint64_t* vf_keys, std::uint64_t* ee_keys) {
   const std::uint64_t k = thread_item();
   if (k >= n) return;
   const std::uint64_t p = first + k;
-  const unsigned bits = kept[p];
-  if (bits == 0) return;
+  const unsigned kept_bits = kept[p];
+  if (kept_bits == 0) return;
   const Index side[2] = {in.pairs[p].a, in.pairs[p].b};
   std::uint64_t* vf = vf_keys + (vf_offset[p] - vf_offset[first]);
   for (int s = 0; s < 2; ++s) {
-    if (!(bits & (7u << (3 * s)))) continue;
+    if (!(kept_bits & (7u << (3 * s)))) continue;
     const Triangle ta = in.tris[side[s]];
     for (int i = 0; i < 3; ++i)
-      if (bits & (1u << (3 * s + i))) *vf++ = (std::uint64_t(ta[i]) << 32) | side[1 - s];
+      if (kept_bits & (1u << (3 * s + i))) *vf++ = (std::uint64_t(ta[i]) << bits.face) | side[1 - s];
   }
-  if (!(bits >> 6)) return;
+  if (!(kept_bits >> 6)) return;
   std::uint64_t* ee = ee_keys + (ee_offset[p] - ee_offset[first]);
   const std::array<Index, 3> edges_a = in.edge_ids[side[0]], edges_b = in.edge_ids[side[1]];
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      if (!(bits & (1u << (6 + 3 * i + j)))) continue;
+      if (!(kept_bits & (1u << (6 + 3 * i + j)))) continue;
       const Index ea = edges_a[i], eb = edges_b[j];
-      *ee++ = ea < eb ? (std::uint64_t(ea) << 32) | eb : (std::uint64_t(eb) << 32) | ea;
+      *ee++ = ea < eb ? (std::uint64_t(ea) << bits.edge) | eb : (std::uint64_t(eb) << bits.edge) | ea;
     }
   }
 }
@@ -148,13 +164,18 @@ __global__ void part_bounds_kernel(const std::uint64_t* vf_offset, const std::ui
   bounds[3 * j + 2] = ee_offset[lo];
 }
 
-__global__ void unpack_vf_kernel(const std::uint64_t* keys, std::size_t n, VertexFaceCandidate* out) {
-  const std::uint64_t k = thread_item();
-  if (k < n) out[k] = {static_cast<Index>(keys[k] >> 32), static_cast<Index>(keys[k] & 0xffffffffu)};
+/// The ids of a key whose lower id takes `bits` bits.
+__device__ __forceinline__ void unpack_key(std::uint64_t key, int bits, Index& high, Index& low) {
+  high = static_cast<Index>(key >> bits);
+  low = static_cast<Index>(key & ((std::uint64_t{1} << bits) - 1));
 }
-__global__ void unpack_ee_kernel(const std::uint64_t* keys, std::size_t n, EdgeEdgeCandidate* out) {
+__global__ void unpack_vf_kernel(const std::uint64_t* keys, std::size_t n, int bits, VertexFaceCandidate* out) {
   const std::uint64_t k = thread_item();
-  if (k < n) out[k] = {static_cast<Index>(keys[k] >> 32), static_cast<Index>(keys[k] & 0xffffffffu)};
+  if (k < n) unpack_key(keys[k], bits, out[k].vertex, out[k].face);
+}
+__global__ void unpack_ee_kernel(const std::uint64_t* keys, std::size_t n, int bits, EdgeEdgeCandidate* out) {
+  const std::uint64_t k = thread_item();
+  if (k < n) unpack_key(keys[k], bits, out[k].edge_a, out[k].edge_b);
 }
 
 /// Sorts n keys with `spare` as the sort's other half; returns the half that holds them sorted.
@@ -169,16 +190,25 @@ const std::uint64_t* sort_keys(std::uint64_t* keys, std::uint64_t* spare, std::s
 }  // namespace
 
 void representative_feature_pairs_on_device(
-    const DeviceTopology& topology, const Dop18* triangle_dops, const Dop18* edge_dops, const Dop18* vertex_dops,
-    std::size_t vertex_count, std::size_t edge_count, const TrianglePair* pairs, std::size_t n,
-    std::size_t candidate_room, DeviceFeatures& f, cudaStream_t stream, FeatureCounts& counts,
+    const DeviceTopology& topology, const DevicePrimitiveBounds& bounds, std::size_t vertex_count,
+    std::size_t edge_count, const TrianglePair* pairs, std::size_t n, std::size_t candidate_room, DeviceFeatures& f,
+    cudaStream_t stream, FeatureCounts& counts,
     const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit) {
   if (n == 0) return;
   if (candidate_room <= kMostCandidatesPerPair)
     throw UsageError("the device memory limit is too small for this scene: the feature stage has room for " +
                      std::to_string(candidate_room) + " candidates; raise the limit (snag-scan --device-memory)");
-  const FeatureInputs in{topology.triangles.data(), topology.edges.data(), topology.masks.data(),
-                         topology.edge_ids.data(), triangle_dops, edge_dops, vertex_dops, pairs};
+  const FeatureInputs in{topology.triangles.data(),
+                         topology.edges.data(),
+                         topology.masks.data(),
+                         topology.edge_ids.data(),
+                         bounds.triangles.data(),
+                         bounds.edges.data(),
+                         bounds.vertices.data(),
+                         bounds.triangle_boxes.data(),
+                         bounds.edge_boxes.data(),
+                         bounds.vertex_boxes.data(),
+                         pairs};
   f.vf_count.resize(n + 1);
   f.ee_count.resize(n + 1);
   f.kept.resize(n);
@@ -208,20 +238,23 @@ void representative_feature_pairs_on_device(
   const std::uint64_t step = candidate_room - kMostCandidatesPerPair;
   const std::uint64_t total = vf_total + ee_total;
   const std::size_t parts = std::max<std::uint64_t>(1, total / step + (total % step != 0 ? 1 : 0));
-  std::vector<std::uint64_t> bounds(3 * (parts + 1));
-  f.bounds.resize(bounds.size());
+  std::vector<std::uint64_t> part_bounds(3 * (parts + 1));
+  f.bounds.resize(part_bounds.size());
   part_bounds_kernel<<<blocks_for(parts + 1), detail::kBlockSize, 0, stream>>>(
       f.vf_offset.data(), f.ee_offset.data(), n, step, parts, f.bounds.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  f.bounds.download(bounds.data(), bounds.size());
+  f.bounds.download(part_bounds.data(), part_bounds.size());
   SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
 
   // Keys are unique (see representative_triangles.hpp); a sort orders them as the CPU's.
-  const int vf_bits = 32 + radix_bits(vertex_count > 0 ? vertex_count - 1 : 0);
-  const int ee_bits = 32 + radix_bits(edge_count > 0 ? edge_count - 1 : 0);
+  const std::size_t triangle_count = topology.triangles.size();
+  const FeatureKeyBits bits{radix_bits(triangle_count > 0 ? triangle_count - 1 : 0),
+                            radix_bits(edge_count > 0 ? edge_count - 1 : 0)};
+  const int vf_bits = bits.face + radix_bits(vertex_count > 0 ? vertex_count - 1 : 0), ee_bits = 2 * bits.edge;
   for (std::size_t j = 0; j < parts; ++j) {
-    const std::uint64_t first = bounds[3 * j], end = bounds[3 * j + 3];
-    const std::size_t vf_n = bounds[3 * j + 4] - bounds[3 * j + 1], ee_n = bounds[3 * j + 5] - bounds[3 * j + 2];
+    const std::uint64_t first = part_bounds[3 * j], end = part_bounds[3 * j + 3];
+    const std::size_t vf_n = part_bounds[3 * j + 4] - part_bounds[3 * j + 1],
+                      ee_n = part_bounds[3 * j + 5] - part_bounds[3 * j + 2];
     if (end == first) continue;
     f.vf_keys.resize(vf_n);
     f.ee_keys.resize(ee_n);
@@ -229,18 +262,18 @@ void representative_feature_pairs_on_device(
     f.ee_sorted.resize(ee_n);
     write_kernel<<<blocks_for(end - first), detail::kBlockSize, 0, stream>>>(in, first, end - first, f.kept.data(),
                                                                              f.vf_offset.data(), f.ee_offset.data(),
-                                                                             f.vf_keys.data(), f.ee_keys.data());
+                                                                             bits, f.vf_keys.data(), f.ee_keys.data());
     SNAG_CUDA_CHECK_LAUNCH();
     const std::uint64_t* vf_sorted = sort_keys(f.vf_keys.data(), f.vf_sorted.data(), vf_n, vf_bits, f.temp, stream);
     const std::uint64_t* ee_sorted = sort_keys(f.ee_keys.data(), f.ee_sorted.data(), ee_n, ee_bits, f.temp, stream);
     f.vf.resize(vf_n);
     f.ee.resize(ee_n);
     if (vf_n > 0) {
-      unpack_vf_kernel<<<blocks_for(vf_n), detail::kBlockSize, 0, stream>>>(vf_sorted, vf_n, f.vf.data());
+      unpack_vf_kernel<<<blocks_for(vf_n), detail::kBlockSize, 0, stream>>>(vf_sorted, vf_n, bits.face, f.vf.data());
       SNAG_CUDA_CHECK_LAUNCH();
     }
     if (ee_n > 0) {
-      unpack_ee_kernel<<<blocks_for(ee_n), detail::kBlockSize, 0, stream>>>(ee_sorted, ee_n, f.ee.data());
+      unpack_ee_kernel<<<blocks_for(ee_n), detail::kBlockSize, 0, stream>>>(ee_sorted, ee_n, bits.edge, f.ee.data());
       SNAG_CUDA_CHECK_LAUNCH();
     }
     SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));

@@ -16,6 +16,7 @@
 #include "libcd/bounding_volume/dop18.hpp"
 #include "libcd/broad_phase/candidates.hpp"
 #include "libcd/cuda/device_buffer.cuh"
+#include "libcd/cuda/primitive_bounds.cuh"
 #include "libcd/culling/representative_triangles.hpp"
 
 namespace snag {
@@ -74,12 +75,14 @@ constexpr std::size_t kMostCandidatesPerPair = 15;
 /// returns). A part holds at most candidate_room candidates (vertex-face and
 /// edge-edge together), so that the stage's memory is bounded by the room;
 /// one part when they all fit. Adds the counts to `counts` (as the CPU's).
-/// @param triangle_dops, edge_dops, vertex_dops  device swept DOPs (#F, #E, #V)
+/// @param bounds  the step's swept DOPs of triangles, edges and vertices and
+///                their float boxes (a feature pair whose boxes are apart is
+///                culled without reading its DOPs)
 /// Waits for the stream. Throws CudaError, UsageError (a room under kMostCandidatesPerPair + 1).
 void representative_feature_pairs_on_device(
-    const DeviceTopology& topology, const Dop18* triangle_dops, const Dop18* edge_dops, const Dop18* vertex_dops,
-    std::size_t vertex_count, std::size_t edge_count, const TrianglePair* pairs, std::size_t pair_count,
-    std::size_t candidate_room, DeviceFeatures& features, cudaStream_t stream, FeatureCounts& counts,
+    const DeviceTopology& topology, const DevicePrimitiveBounds& bounds, std::size_t vertex_count,
+    std::size_t edge_count, const TrianglePair* pairs, std::size_t pair_count, std::size_t candidate_room,
+    DeviceFeatures& features, cudaStream_t stream, FeatureCounts& counts,
     const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit);
 
 }  // namespace snag
