@@ -240,8 +240,13 @@ __global__ void __launch_bounds__(kBlockSize, kQuickBlocksPerSm)
       return;  // every query taken and searched
     }
     if (searching) {
-      ended =
-          ccd_detail::advance_time_search(contact, settings.time_tolerance, &interval, &search, stack, &result, &end);
+      // An interval the cubic's signs exclude takes no inside test: the lane
+      // passes over such intervals now, so that in the next round the lanes
+      // that go on all examine an interval that needs one, together.
+      do {
+        ended =
+            ccd_detail::advance_time_search(contact, settings.time_tolerance, &interval, &search, stack, &result, &end);
+      } while (!ended && ccd_detail::keeps_sign(search.node.b));
       searching = !ended;
     }
     if (!ended) continue;
