@@ -78,4 +78,19 @@ inline int radix_bits(std::uint64_t max_value) {
   return bits;
 }
 
+/// A sort key of two ids: `high` above `low`, which takes the lowest
+/// low_bits bits (low < 2^low_bits, e.g. radix_bits of the largest low id).
+/// Keys ascend as (high, low) do, and a radix sort over
+/// radix_bits(largest high) + low_bits bits takes fewer passes than one with
+/// `low` in 32 bits.
+__host__ __device__ inline std::uint64_t pack_key(std::uint64_t high, std::uint32_t low, int low_bits) {
+  return (high << low_bits) | low;
+}
+
+/// The two ids of a pack_key key.
+__host__ __device__ inline void unpack_key(std::uint64_t key, int low_bits, std::uint32_t& high, std::uint32_t& low) {
+  high = static_cast<std::uint32_t>(key >> low_bits);
+  low = static_cast<std::uint32_t>(key & ((std::uint64_t{1} << low_bits) - 1));
+}
+
 }  // namespace snag::detail

@@ -35,23 +35,25 @@ namespace {
 using detail::blocks_for;
 using detail::ensure_scratch;
 using detail::exclusive_sum;
+using detail::pack_key;
 using detail::radix_bits;
 using detail::radix_sort_keys;
 using detail::radix_sort_pairs;
 using detail::thread_item;
+using detail::unpack_key;
 
 /// Counter slots of the test kernel.
 enum Counter { kSameRoot, kTimeSlots, kControlBits, kExtended, kFallback, kPassed, kKept, kCulled, kCounters };
 
-/// Sort keys of the registrations: cell rank above, root triangle in the
-/// lowest root_bits bits; the values are the leaf ids.
+/// Sort keys of the registrations: cell rank above, root triangle below
+/// (pack_key); the values are the leaf ids.
 __global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t* first, std::size_t cells,
                                          const std::uint32_t* cell_leaves, std::size_t count, int root_bits,
                                          std::uint64_t* keys, std::uint32_t* ids) {
   const std::uint64_t r = thread_item();
   if (r >= count) return;
   const std::uint64_t c = cell_of_work_item(first, cells, r);
-  keys[r] = (c << root_bits) | leaves[cell_leaves[r]].triangle.root;
+  keys[r] = pack_key(c, leaves[cell_leaves[r]].triangle.root, root_bits);
   ids[r] = cell_leaves[r];
 }
 
@@ -181,14 +183,6 @@ struct AdaptiveTileCells {
   }
 };
 
-/// A root pair's sort key in 2·bits bits, bits = radix_bits(triangles - 1):
-/// the smaller root above the larger, so that keys ascend as pack_pair's do
-/// and their radix sort takes fewer passes (for 92k triangles 34 bits against
-/// pack_pair's 49: 5 passes of 8 bits instead of 7).
-__device__ __forceinline__ std::uint64_t root_pair_key(Index a, Index b, int bits) {
-  return a < b ? (std::uint64_t(a) << bits) | b : (std::uint64_t(b) << bits) | a;
-}
-
 /// A tile's run of members (rows or columns) in shared memory, with the float
 /// boxes of their roots.
 template <class Member>
@@ -298,7 +292,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
             case CellPairVerdict::kTestFallback: ++fallback; [[fallthrough]];
             case CellPairVerdict::kTest: {
               ++passed;
-              key = root_pair_key(ra, rb, key_bits);
+              key = ra < rb ? pack_key(ra, rb, key_bits) : pack_key(rb, ra, key_bits);
               // The float boxes first (in shared memory, most pairs apart
               // there); the DOPs (144 bytes each) only where the boxes meet.
               if (float_boxes_may_overlap(rows.boxes[row], columns.boxes[column]) && source.leaves_overlap(a, b) &&
@@ -369,9 +363,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
 
 __global__ void unpack_pairs_kernel(const std::uint64_t* keys, std::size_t n, int key_bits, TrianglePair* pairs) {
   const std::uint64_t k = thread_item();
-  if (k < n)
-    pairs[k] = {static_cast<Index>(keys[k] >> key_bits),
-                static_cast<Index>(keys[k] & ((std::uint64_t{1} << key_bits) - 1))};
+  if (k < n) unpack_key(keys[k], key_bits, pairs[k].a, pairs[k].b);
 }
 
 /// Sorts the n keys of `keys` (using `spare`, as large, as the sort's other
@@ -533,6 +525,8 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
 
   unsigned long long totals[kCounters] = {};
   std::size_t kept_total = 0, unique_total = 0, culled_total = 0, culled_unique_total = 0;
+  // Root pairs' keys: the smaller root above the larger (pack_key), in 2·key_bits
+  // bits (for 92k triangles 34 bits: 5 radix passes of 8 bits).
   const int key_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0), end_bit = 2 * key_bits;
   std::vector<unsigned> histogram(kHistogramBuckets);
   double seconds = 0;

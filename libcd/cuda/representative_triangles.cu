@@ -20,9 +20,11 @@ namespace {
 
 using detail::blocks_for;
 using detail::exclusive_sum;
+using detail::pack_key;
 using detail::radix_bits;
 using detail::radix_sort_keys;
 using detail::thread_item;
+using detail::unpack_key;
 
 __device__ __forceinline__ bool is_corner(const Triangle& t, Index v) { return t[0] == v || t[1] == v || t[2] == v; }
 
@@ -102,11 +104,8 @@ __global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_
   detail::warp_count(ee_before, &counters[1]);
 }
 
-/// The bits of a feature key's lower id: face ids below the vertex in a
-/// vertex-face key, the larger edge below the smaller in an edge-edge key
-/// (radix_bits of the largest id), so that keys ascend as (vertex, face) and
-/// (edge_a, edge_b) do and their radix sort takes fewer passes than with the
-/// lower id in 32 bits.
+/// The low_bits of the feature keys (pack_key): a face's id below the vertex
+/// in a vertex-face key, the larger edge below the smaller in an edge-edge key.
 struct FeatureKeyBits {
   int face, edge;
 };
@@ -129,7 +128,7 @@ __global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t 
     if (!(kept_bits & (7u << (3 * s)))) continue;
     const Triangle ta = in.tris[side[s]];
     for (int i = 0; i < 3; ++i)
-      if (kept_bits & (1u << (3 * s + i))) *vf++ = (std::uint64_t(ta[i]) << bits.face) | side[1 - s];
+      if (kept_bits & (1u << (3 * s + i))) *vf++ = pack_key(ta[i], side[1 - s], bits.face);
   }
   if (!(kept_bits >> 6)) return;
   std::uint64_t* ee = ee_keys + (ee_offset[p] - ee_offset[first]);
@@ -138,7 +137,7 @@ __global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t 
     for (int j = 0; j < 3; ++j) {
       if (!(kept_bits & (1u << (6 + 3 * i + j)))) continue;
       const Index ea = edges_a[i], eb = edges_b[j];
-      *ee++ = ea < eb ? (std::uint64_t(ea) << bits.edge) | eb : (std::uint64_t(eb) << bits.edge) | ea;
+      *ee++ = ea < eb ? pack_key(ea, eb, bits.edge) : pack_key(eb, ea, bits.edge);
     }
   }
 }
@@ -164,11 +163,6 @@ __global__ void part_bounds_kernel(const std::uint64_t* vf_offset, const std::ui
   bounds[3 * j + 2] = ee_offset[lo];
 }
 
-/// The ids of a key whose lower id takes `bits` bits.
-__device__ __forceinline__ void unpack_key(std::uint64_t key, int bits, Index& high, Index& low) {
-  high = static_cast<Index>(key >> bits);
-  low = static_cast<Index>(key & ((std::uint64_t{1} << bits) - 1));
-}
 __global__ void unpack_vf_kernel(const std::uint64_t* keys, std::size_t n, int bits, VertexFaceCandidate* out) {
   const std::uint64_t k = thread_item();
   if (k < n) unpack_key(keys[k], bits, out[k].vertex, out[k].face);
