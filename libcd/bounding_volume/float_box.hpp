@@ -46,12 +46,13 @@ SNAG_HD_INLINE FloatBox float_box_of(const Dop18& dop) {
 
 /// False only when the boxes are apart along an axis; then the DOPs they were
 /// made from are apart too (dop_overlap is false). NaN bounds never make it
-/// false: the DOPs' own test decides.
+/// false: the DOPs' own test decides. The six comparisons are joined
+/// bitwise, without short circuits, so that a GPU warp runs them all without
+/// branching.
 SNAG_HD_INLINE bool float_boxes_may_overlap(const FloatBox& a, const FloatBox& b) {
-  for (int k = 0; k < 3; ++k) {
-    if (a.lo[k] > b.hi[k] || b.lo[k] > a.hi[k]) return false;
-  }
-  return true;
+  bool apart = false;
+  for (int k = 0; k < 3; ++k) apart = apart | (a.lo[k] > b.hi[k]) | (b.lo[k] > a.hi[k]);
+  return !apart;
 }
 
 }  // namespace snag

@@ -117,11 +117,25 @@ __global__ void adaptive_tests_kernel(const TestCell* cells, std::size_t count, 
 /// Buckets of the histogram of kept tests over a pass's root range.
 constexpr unsigned kHistogramBuckets = 1024;
 
+/// A registered leaf as a tile of one cell holds it: its root, its time slot
+/// and its cells as masks around the tile's cell (LocalCells).
+struct UniformTileMember {
+  Index root;
+  std::uint32_t slot_depth, slot_index;
+  LocalCells cells;
+};
+
+SNAG_HD_INLINE bool slots_nested(const UniformTileMember& a, const UniformTileMember& b) {
+  return ::snag::slots_nested(a.slot_depth, a.slot_index, b.slot_depth, b.slot_index);
+}
+
 /// The uniform grid's cells as the tile kernel reads them: members are the
-/// registered leaves, the VSS control bits decide which cell tests a pair,
-/// and the roots' DOPs alone decide what is kept.
+/// registered leaves, the VSS control bits decide which cell tests a pair
+/// (by the leaves' masks around the cell, or by their LeafCells where a
+/// block is wide), and the roots' DOPs alone decide what is kept.
 struct UniformTileCells {
   using Member = RegisteredLeaf;
+  using TileMember = UniformTileMember;
   struct Cell {
     CellCoord coord;
   };
@@ -133,10 +147,21 @@ struct UniformTileCells {
   __device__ std::uint64_t begin(std::uint64_t c) const { return first[c]; }
   __device__ std::uint64_t size(std::uint64_t c) const { return first[c + 1] - first[c]; }
   __device__ Cell cell(std::uint64_t c) const { return {grid_cell_coord(grid, cell_ids[c])}; }
-  __device__ CellPairVerdict verdict(const Member& a, const Member& b, const Cell& cell) const {
-    return cell_pair_verdict(a.cells, b.cells, cell.coord);
+  /// members[begin, begin + count) into `to`, each thread of the block a member.
+  __device__ void load_members(std::uint64_t begin, unsigned count, const Cell& cell, TileMember* to) const {
+    for (unsigned k = threadIdx.x; k < count; k += blockDim.x) {
+      const RegisteredLeaf& m = members[begin + k];
+      to[k] = {m.root, m.slot_depth, m.slot_index, local_cells(m.cells, cell.coord)};
+    }
   }
-  __device__ bool leaves_overlap(const Member&, const Member&) const { return true; }
+  /// a and b are members[index_a] and members[index_b].
+  __device__ CellPairVerdict verdict(const TileMember& a, const TileMember& b, std::uint64_t index_a,
+                                     std::uint64_t index_b, const Cell& cell) const {
+    if (a.cells.wide() || b.cells.wide())
+      return cell_pair_verdict(members[index_a].cells, members[index_b].cells, cell.coord);
+    return cell_pair_verdict(a.cells, b.cells);
+  }
+  __device__ bool leaves_overlap(const TileMember&, const TileMember&) const { return true; }
   /// A pass's rows hold only its tests (chunk_tests_kernel).
   __device__ bool tile_may_hold(std::uint64_t, const PairTile&, std::uint32_t, std::uint32_t) const { return true; }
 };
@@ -146,6 +171,7 @@ struct UniformTileCells {
 /// well as the roots' (the leaves' float boxes first, in shared memory).
 struct AdaptiveTileCells {
   using Member = AdaptiveMember;
+  using TileMember = AdaptiveMember;
   struct Cell {
     CellCoord coord;
     std::int32_t level;
@@ -158,7 +184,17 @@ struct AdaptiveTileCells {
   __device__ std::uint64_t begin(std::uint64_t c) const { return cells[c].first; }
   __device__ std::uint64_t size(std::uint64_t c) const { return cells[c].count; }
   __device__ Cell cell(std::uint64_t c) const { return {cells[c].coord, cells[c].level}; }
-  __device__ CellPairVerdict verdict(const Member& a, const Member& b, const Cell& cell) const {
+  /// members[begin, begin + count) into `to`, word by word.
+  __device__ void load_members(std::uint64_t begin, unsigned count, const Cell&, TileMember* to) const {
+    static_assert(sizeof(Member) % sizeof(std::uint32_t) == 0 && alignof(Member) % 4 == 0,
+                  "members are copied word by word");
+    constexpr unsigned kWords = sizeof(Member) / sizeof(std::uint32_t);
+    const auto* from = reinterpret_cast<const std::uint32_t*>(members + begin);
+    auto* words = reinterpret_cast<std::uint32_t*>(to);
+    for (unsigned w = threadIdx.x; w < count * kWords; w += blockDim.x) words[w] = from[w];
+  }
+  __device__ CellPairVerdict verdict(const Member& a, const Member& b, std::uint64_t, std::uint64_t,
+                                     const Cell& cell) const {
     return adaptive_cell_owns_pair(a.block, b.block, depth, cell.level, cell.coord) ? CellPairVerdict::kTest
                                                                                     : CellPairVerdict::kSkipControlBits;
   }
@@ -183,26 +219,24 @@ struct AdaptiveTileCells {
   }
 };
 
-/// A tile's run of members (rows or columns) in shared memory, with the float
-/// boxes of their roots.
-template <class Member>
+/// A tile's run of members (rows or columns) in shared memory, as the cells'
+/// TileMember, with the float boxes of their roots.
+template <class Cells>
 struct TileSide {
-  static_assert(sizeof(Member) % sizeof(std::uint32_t) == 0 && alignof(Member) % 4 == 0,
-                "members are copied word by word");
-  static constexpr unsigned kWords = sizeof(Member) / sizeof(std::uint32_t);
-  Member members[kPairTileSide];
+  typename Cells::TileMember members[kPairTileSide];
   FloatBox boxes[kPairTileSide];
 };
 
-/// Copies members[begin, begin + count) and their roots' boxes into `side`
-/// (every thread of the block takes part; the caller synchronizes after).
-template <class Member>
-__device__ void load_tile_side(const Member* members, std::uint64_t begin, unsigned count,
-                               const FloatBox* triangle_boxes, TileSide<Member>& side) {
-  const auto* from = reinterpret_cast<const std::uint32_t*>(members + begin);
-  auto* to = reinterpret_cast<std::uint32_t*>(side.members);
-  for (unsigned w = threadIdx.x; w < count * TileSide<Member>::kWords; w += blockDim.x) to[w] = from[w];
-  for (unsigned k = threadIdx.x; k < count; k += blockDim.x) side.boxes[k] = triangle_boxes[members[begin + k].root];
+/// Loads the cell's members [begin, begin + count) and their roots' boxes
+/// into `side` (every thread of the block takes part; the caller
+/// synchronizes after).
+template <class Cells>
+__device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigned count,
+                               const typename Cells::Cell& cell, const FloatBox* triangle_boxes,
+                               TileSide<Cells>& side) {
+  source.load_members(begin, count, cell, side.members);
+  for (unsigned k = threadIdx.x; k < count; k += blockDim.x)
+    side.boxes[k] = triangle_boxes[source.members[begin + k].root];
 }
 
 /// The tests of a chunk, tile by tile: each block strides over the tiles
@@ -228,9 +262,9 @@ __global__ void __launch_bounds__(detail::kBlockSize)
                 std::uint32_t range_first, std::uint32_t range_end, std::uint32_t bucket_width, int key_bits,
                 unsigned* histogram, std::uint64_t* kept, std::uint64_t kept_capacity, bool count_culled,
                 std::uint64_t* culled, std::uint64_t culled_capacity, unsigned long long* counters) {
-  using Member = typename Cells::Member;
+  using Member = typename Cells::TileMember;
   using Cell = typename Cells::Cell;
-  using Side = TileSide<Member>;
+  using Side = TileSide<Cells>;
   __shared__ unsigned block_histogram[kHistogramBuckets];
   // Raw storage: shared variables take no initializers, and the records have them.
   __shared__ alignas(alignof(Side)) unsigned char side_storage[2 * sizeof(Side)];
@@ -265,10 +299,10 @@ __global__ void __launch_bounds__(detail::kBlockSize)
     // j - i = offset + column - row (the offset is negative in a diagonal
     // tile whose first rows the chunk leaves out).
     const auto offset = static_cast<std::int64_t>(tile_columns[0]) - static_cast<std::int64_t>(tile_rows[0]);
-    load_tile_side(source.members, cell_first + tile_rows[0], row_count, triangle_boxes, rows);
-    load_tile_side(source.members, cell_first + tile_columns[0], column_count, triangle_boxes, columns);
-    __syncthreads();
     const Cell cell = tile_cell_info;
+    load_tile_side(source, cell_first + tile_rows[0], row_count, cell, triangle_boxes, rows);
+    load_tile_side(source, cell_first + tile_columns[0], column_count, cell, triangle_boxes, columns);
+    __syncthreads();
     // One test of the tile; every thread of the block calls it once per
     // round, with `valid` set where it has a test.
     auto run_test = [&](bool valid, unsigned row, unsigned column) {
@@ -286,7 +320,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
         } else if (!slots_nested(a, b)) {
           ++time_slots;
         } else {
-          switch (source.verdict(a, b, cell)) {
+          switch (source.verdict(a, b, cell_first + tile_rows[0] + row, cell_first + tile_columns[0] + column, cell)) {
             case CellPairVerdict::kSkipControlBits: ++control_bits; break;
             case CellPairVerdict::kSkipExtendedBits: ++extended; break;
             case CellPairVerdict::kTestFallback: ++fallback; [[fallthrough]];

@@ -123,4 +123,69 @@ SNAG_HD_INLINE CellPairVerdict cell_pair_verdict(const LeafCells& a, const LeafC
   return best_is_own_home ? CellPairVerdict::kSkipControlBits : CellPairVerdict::kSkipExtendedBits;
 }
 
+/// The test rule in one cell C as bit masks: the form the GPU's pair tests
+/// evaluate, without branches, on every test of a tile (the leaves' masks are
+/// made once per tile, the rule per test is a few integer operations).
+///
+/// When each leaf's block lies within one cell of C along every axis (the
+/// usual case: a leaf registered in C, no larger than a cell, spans at most
+/// two cells per axis), every cell of R lies in one of the two blocks, so
+/// within those 27 cells. They are numbered (dx + 1) + 3 (dy + 1) + 9 (dz +
+/// 1) for the offset (dx, dy, dz) from C, which orders them as
+/// cell_precedes does; the smallest cell of R is then its lowest bit. A
+/// home or sibling home farther from C lies in neither block and takes no
+/// bit. A leaf whose block reaches farther is marked `wide`, and the caller
+/// decides its pairs with cell_pair_verdict of the LeafCells.
+struct LocalCells {
+  std::uint32_t block = 0;     ///< bits: the cells of the leaf's block
+  std::uint32_t home = 0;      ///< bit of its home cell
+  std::uint32_t siblings = 0;  ///< bits: its accepted siblings' homes
+  /// bits 0-2: the block's low corner equals C along x, y, z; bits 3-5: it
+  /// lies above C along that axis; bit 6: wide (the masks do not apply).
+  std::uint32_t corner = 0;
+  SNAG_HD_INLINE bool wide() const { return (corner >> 6) & 1u; }
+};
+
+/// Bit of cell c among the 27 cells around `cell` (LocalCells), 0 when farther.
+SNAG_HD_INLINE std::uint32_t local_cell_bit(CellCoord c, CellCoord cell) {
+  const int dx = c.x - cell.x, dy = c.y - cell.y, dz = c.z - cell.z;
+  const bool near = (dx >= -1) & (dx <= 1) & (dy >= -1) & (dy <= 1) & (dz >= -1) & (dz <= 1);
+  return near ? 1u << ((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)) : 0u;
+}
+
+/// The leaf's masks around `cell`.
+SNAG_HD_INLINE LocalCells local_cells(const LeafCells& leaf, CellCoord cell) {
+  LocalCells local;
+  const CellBlock& b = leaf.block;
+  const bool wide = (b.lo.x < cell.x - 1) | (b.hi.x > cell.x + 1) | (b.lo.y < cell.y - 1) | (b.hi.y > cell.y + 1) |
+                    (b.lo.z < cell.z - 1) | (b.hi.z > cell.z + 1);
+  if (wide) {
+    local.corner = 1u << 6;
+    return local;
+  }
+  for (std::int32_t z = b.lo.z; z <= b.hi.z; ++z)
+    for (std::int32_t y = b.lo.y; y <= b.hi.y; ++y)
+      for (std::int32_t x = b.lo.x; x <= b.hi.x; ++x) local.block |= local_cell_bit({x, y, z}, cell);
+  local.home = local_cell_bit(leaf.home, cell);
+  for (std::uint32_t k = 0; k < leaf.sibling_count; ++k) local.siblings |= local_cell_bit(leaf.sibling_home[k], cell);
+  local.corner = static_cast<std::uint32_t>(b.lo.x == cell.x) | static_cast<std::uint32_t>(b.lo.y == cell.y) << 1 |
+                 static_cast<std::uint32_t>(b.lo.z == cell.z) << 2 | static_cast<std::uint32_t>(b.lo.x > cell.x) << 3 |
+                 static_cast<std::uint32_t>(b.lo.y > cell.y) << 4 | static_cast<std::uint32_t>(b.lo.z > cell.z) << 5;
+  return local;
+}
+
+/// cell_pair_verdict of two leaves in the cell their masks were made
+/// around, neither wide. The fallback's corner, the larger of the two low
+/// corners, is the cell when along each axis one low corner is at the cell
+/// and neither lies above it.
+SNAG_HD_INLINE CellPairVerdict cell_pair_verdict(const LocalCells& a, const LocalCells& b) {
+  const std::uint32_t own = (a.home & b.block) | (b.home & a.block);
+  const std::uint32_t r = own | (a.siblings & b.block) | (b.siblings & a.block);
+  if (r == 0)
+    return ((a.corner | b.corner) & 63u) == 7u ? CellPairVerdict::kTestFallback : CellPairVerdict::kSkipControlBits;
+  const std::uint32_t smallest = r & (~r + 1u);
+  if (smallest == local_cell_bit({0, 0, 0}, {0, 0, 0})) return CellPairVerdict::kTest;
+  return (smallest & own) != 0 ? CellPairVerdict::kSkipControlBits : CellPairVerdict::kSkipExtendedBits;
+}
+
 }  // namespace snag

@@ -35,15 +35,16 @@ struct Leaf {
 /// (92 bytes; not the corners, which only the leaf's own DOP needed). Both
 /// back ends copy the leaves in registration order (cell by cell), so that
 /// the leaves of one cell lie side by side and the tests of a cell read them
-/// from cache; a cell of n leaves is read about n times over, so every byte
-/// here is paid for on each of its tests.
+/// from cache; a cell of n leaves is read about n times over on the CPU, so
+/// every byte here is paid for on each of its tests (the GPU's tiles read
+/// each leaf once per tile and test it as masks around the cell, LocalCells).
 struct RegisteredLeaf {
   Index root = 0;                ///< the leaf's root triangle
   std::uint32_t slot_depth = 0;  ///< its time slot (VirtualTriangle::slot_depth, slot_index)
   std::uint32_t slot_index = 0;
   LeafCells cells;
 };
-static_assert(sizeof(RegisteredLeaf) == 92, "RegisteredLeaf: the pair tests read all of it on every test");
+static_assert(sizeof(RegisteredLeaf) == 92, "RegisteredLeaf: the CPU's pair tests read all of it on every test");
 
 SNAG_HD_INLINE RegisteredLeaf registered_leaf(const Leaf& leaf) {
   return RegisteredLeaf{leaf.triangle.root, leaf.triangle.slot_depth, leaf.triangle.slot_index, leaf.cells};

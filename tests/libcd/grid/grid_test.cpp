@@ -214,6 +214,64 @@ TEST(ControlBits, VerdictIsTheRuleOverCellIds) {
     EXPECT_GT(seen[v], 100) << static_cast<int>(v);
 }
 
+TEST(ControlBits, LocalMasksGiveTheVerdictAroundEveryCell) {
+  // Two leaves of one to three cells per axis, the second near the first,
+  // with 0 to 3 siblings near or anywhere in an 8 x 8 x 8 grid; around every
+  // cell within one of the first leaf's block: where neither block reaches
+  // beyond one cell of the cell (not wide), the masks' verdict is
+  // cell_pair_verdict's, in the cells the two share and elsewhere.
+  std::mt19937 rng(21);
+  std::uniform_int_distribution<int> pos(2, 4), near(-2, 2), next(-1, 1), ext(0, 1), anywhere(0, 7), siblings(0, 3),
+      wide(0, 9);
+  std::map<CellPairVerdict, int> seen_shared;
+  int compared = 0, wide_seen = 0;
+  for (int trial = 0; trial < 100000; ++trial) {
+    LeafCells leaf[2];
+    for (int k = 0; k < 2; ++k) {
+      LeafCells& l = leaf[k];
+      l.block.lo = k == 0 ? CellCoord{pos(rng), pos(rng), pos(rng)}
+                          : CellCoord{leaf[0].block.lo.x + near(rng), leaf[0].block.lo.y + near(rng),
+                                      leaf[0].block.lo.z + near(rng)};
+      l.block.hi = {l.block.lo.x + ext(rng), l.block.lo.y + ext(rng), l.block.lo.z + ext(rng)};
+      if (wide(rng) == 0) l.block.hi.y = l.block.lo.y + 2;  // an oversized leaf
+      l.home = block_cell(l.block, std::uniform_int_distribution<std::uint64_t>(0, block_cell_count(l.block) - 1)(rng));
+      l.sibling_count = static_cast<std::uint32_t>(siblings(rng));
+      for (std::uint32_t s = 0; s < l.sibling_count; ++s)
+        l.sibling_home[s] =
+            rng() % 2 ? CellCoord{anywhere(rng), anywhere(rng), anywhere(rng)}
+                      : CellCoord{l.block.lo.x + next(rng), l.block.lo.y + next(rng), l.block.lo.z + next(rng)};
+      l.control_bits = make_control_bits(l);
+    }
+    const CellBlock& around = leaf[0].block;
+    for (int z = around.lo.z - 1; z <= around.hi.z + 1; ++z)
+      for (int y = around.lo.y - 1; y <= around.hi.y + 1; ++y)
+        for (int x = around.lo.x - 1; x <= around.hi.x + 1; ++x) {
+          const CellCoord c{x, y, z};
+          const LocalCells a = local_cells(leaf[0], c), b = local_cells(leaf[1], c);
+          for (int k = 0; k < 2; ++k) {
+            const CellBlock& block = leaf[k].block;
+            const bool reaches = block.lo.x < x - 1 || block.hi.x > x + 1 || block.lo.y < y - 1 || block.hi.y > y + 1 ||
+                                 block.lo.z < z - 1 || block.hi.z > z + 1;
+            ASSERT_EQ((k == 0 ? a : b).wide(), reaches);
+          }
+          if (a.wide() || b.wide()) {
+            ++wide_seen;
+            continue;
+          }
+          const CellPairVerdict v = cell_pair_verdict(leaf[0], leaf[1], c);
+          ASSERT_EQ(cell_pair_verdict(a, b), v) << "trial " << trial << " cell " << x << "," << y << "," << z;
+          ASSERT_EQ(cell_pair_verdict(b, a), cell_pair_verdict(leaf[1], leaf[0], c));
+          ++compared;
+          if (block_contains(leaf[0].block, c) && block_contains(leaf[1].block, c)) ++seen_shared[v];
+        }
+  }
+  EXPECT_GT(compared, 100000);
+  EXPECT_GT(wide_seen, 10000);
+  for (CellPairVerdict v : {CellPairVerdict::kTest, CellPairVerdict::kTestFallback, CellPairVerdict::kSkipControlBits,
+                            CellPairVerdict::kSkipExtendedBits})
+    EXPECT_GT(seen_shared[v], 500) << static_cast<int>(v);
+}
+
 TEST(ControlBits, EncodeTypesOfHomeBlockAndSiblings) {
   LeafCells leaf;
   leaf.block = {{2, 3, 4}, {3, 3, 5}};
