@@ -248,13 +248,16 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// float_box.hpp); Cells (UniformTileCells, AdaptiveTileCells) gives the
 /// cell's own rule. Only the tests whose smaller root lies in [range_first,
 /// range_end) run (the uniform cells' rows hold no other), and a tile that
-/// Cells::tile_may_hold rules out is skipped whole. Each kept test
-/// adds one to its smaller root's bucket of the histogram over the range (in
-/// shared memory, added to `histogram` once per block). Counters are summed
-/// in registers and added with one atomic per warp at the end; kept (and,
-/// with count_culled, culled) root pairs are appended with one atomic per
-/// warp and round. Every thread of the block runs every round of a tile, so
-/// warp-wide operations see full warps.
+/// Cells::tile_may_hold rules out is skipped whole. The tests whose boxes
+/// meet wait in their warp's list until it holds 32, whose roots' DOPs the
+/// warp then tests with all its lanes (across tiles; the last ones at the
+/// end). Each kept test adds one to its smaller root's bucket of the
+/// histogram over the range (in shared memory, added to `histogram` once per
+/// block). Counters are summed in registers and added with one atomic per
+/// warp at the end; kept root pairs are written 32 at a time with one atomic
+/// (with count_culled, culled ones with one atomic per warp and round).
+/// Every thread of the block runs every round of a tile, so warp-wide
+/// operations see full warps.
 template <class Cells>
 __global__ void __launch_bounds__(detail::kBlockSize)
     test_kernel(std::uint64_t tiles, const std::uint64_t* first_tile, std::size_t cells, const std::uint64_t* row_begin,
@@ -277,6 +280,68 @@ __global__ void __launch_bounds__(detail::kBlockSize)
   for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
   if (threadIdx.x == 0) tile_cell = 0;
   unsigned same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culls = 0;
+  // Each warp's keys whose roots' DOPs are still to be tested, and its kept
+  // keys still to be written, in shared memory: a warp tests 32 DOP pairs at
+  // once with all its lanes (a round's tests leave a few lanes with boxes
+  // that meet), and reserves room for 32 kept keys with one atomic. The
+  // counts are the same on every lane of the warp.
+  __shared__ std::uint64_t warp_waiting[detail::kBlockSize / 32][64], warp_keeping[detail::kBlockSize / 32][64];
+  const unsigned lane = threadIdx.x & 31u;
+  std::uint64_t* const waiting = warp_waiting[threadIdx.x / 32];
+  std::uint64_t* const keeping = warp_keeping[threadIdx.x / 32];
+  unsigned waiting_count = 0, keeping_count = 0;
+  // Appends the keys of the lanes with `take` set to one of the warp's lists.
+  auto push = [&](bool take, std::uint64_t key, std::uint64_t* list, unsigned& count) {
+    const unsigned mask = __ballot_sync(0xffffffffu, take);
+    if (take) list[count + __popc(mask & ((1u << lane) - 1u))] = key;
+    count += __popc(mask);
+    __syncwarp();
+  };
+  // Drops the first n entries of a list (n = 32, or all of them).
+  auto drop = [&](std::uint64_t* list, unsigned& count, unsigned n) {
+    const bool moves = lane + n < count;
+    const std::uint64_t moved = moves ? list[lane + n] : 0;
+    __syncwarp();
+    if (moves) list[lane] = moved;
+    __syncwarp();
+    count -= n;
+  };
+  auto record_cull = [&](bool cull, std::uint64_t key) {
+    if (count_culled) {
+      const unsigned long long slot = detail::warp_append(cull, &counters[kCulled]);
+      if (cull && slot < culled_capacity) culled[slot] = key;
+    } else {
+      culls += cull ? 1 : 0;
+    }
+  };
+  // Writes the first n (at most 32) kept keys.
+  auto write_kept = [&](unsigned n) {
+    unsigned long long base = 0;
+    if (lane == 0) base = atomicAdd(&counters[kKept], static_cast<unsigned long long>(n));
+    base = __shfl_sync(0xffffffffu, base, 0);
+    if (lane < n && base + lane < kept_capacity) kept[base + lane] = keeping[lane];
+    drop(keeping, keeping_count, n);
+  };
+  // Tests the roots' DOPs of the first n (at most 32) waiting keys, a key a lane.
+  auto test_waiting = [&](unsigned n) {
+    bool keep = false, cull = false;
+    std::uint64_t key = 0;
+    if (lane < n) {
+      key = waiting[lane];
+      Index low = 0, high = 0;
+      unpack_key(key, key_bits, low, high);
+      if (dop_overlap(triangle_dops[low], triangle_dops[high])) {
+        keep = true;
+        atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
+      } else {
+        cull = true;
+      }
+    }
+    drop(waiting, waiting_count, n);
+    push(keep, key, keeping, keeping_count);
+    if (keeping_count >= 32) write_kept(32);
+    record_cull(cull, key);
+  };
   for (std::uint64_t t = blockIdx.x; t < tiles; t += gridDim.x) {
     __syncthreads();  // the last tile's shared data is read by all
     if (threadIdx.x == 0) {
@@ -306,7 +371,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
     // One test of the tile; every thread of the block calls it once per
     // round, with `valid` set where it has a test.
     auto run_test = [&](bool valid, unsigned row, unsigned column) {
-      bool keep = false, cull = false;
+      bool wait = false, cull = false;
       std::uint64_t key = 0;
       if (valid) {
         const Member& a = rows.members[row];
@@ -321,18 +386,23 @@ __global__ void __launch_bounds__(detail::kBlockSize)
           ++time_slots;
         } else {
           switch (source.verdict(a, b, cell_first + tile_rows[0] + row, cell_first + tile_columns[0] + column, cell)) {
-            case CellPairVerdict::kSkipControlBits: ++control_bits; break;
-            case CellPairVerdict::kSkipExtendedBits: ++extended; break;
-            case CellPairVerdict::kTestFallback: ++fallback; [[fallthrough]];
+            case CellPairVerdict::kSkipControlBits:
+              ++control_bits;
+              break;
+            case CellPairVerdict::kSkipExtendedBits:
+              ++extended;
+              break;
+            case CellPairVerdict::kTestFallback:
+              ++fallback;
+              [[fallthrough]];
             case CellPairVerdict::kTest: {
               ++passed;
               key = ra < rb ? pack_key(ra, rb, key_bits) : pack_key(rb, ra, key_bits);
               // The float boxes first (in shared memory, most pairs apart
-              // there); the DOPs (144 bytes each) only where the boxes meet.
-              if (float_boxes_may_overlap(rows.boxes[row], columns.boxes[column]) && source.leaves_overlap(a, b) &&
-                  dop_overlap(triangle_dops[ra], triangle_dops[rb])) {
-                keep = true;
-                atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
+              // there); the roots' DOPs (144 bytes each) only where the
+              // boxes meet, later, a warp's worth at a time.
+              if (float_boxes_may_overlap(rows.boxes[row], columns.boxes[column]) && source.leaves_overlap(a, b)) {
+                wait = true;
               } else {
                 cull = true;
               }
@@ -341,14 +411,9 @@ __global__ void __launch_bounds__(detail::kBlockSize)
           }
         }
       }
-      const unsigned long long kept_slot = detail::warp_append(keep, &counters[kKept]);
-      if (keep && kept_slot < kept_capacity) kept[kept_slot] = key;
-      if (count_culled) {
-        const unsigned long long culled_slot = detail::warp_append(cull, &counters[kCulled]);
-        if (cull && culled_slot < culled_capacity) culled[culled_slot] = key;
-      } else {
-        culls += cull ? 1 : 0;
-      }
+      push(wait, key, waiting, waiting_count);
+      if (waiting_count >= 32) test_waiting(32);
+      record_cull(cull, key);
     };
     if (offset >= static_cast<std::int64_t>(row_count)) {
       // Every column after every row: slot s = row * column_count + column,
@@ -383,6 +448,8 @@ __global__ void __launch_bounds__(detail::kBlockSize)
       }
     }
   }
+  if (waiting_count > 0) test_waiting(waiting_count);
+  if (keeping_count > 0) write_kept(keeping_count);
   detail::warp_count(same_root, &counters[kSameRoot]);
   detail::warp_count(time_slots, &counters[kTimeSlots]);
   detail::warp_count(control_bits, &counters[kControlBits]);
