@@ -42,60 +42,104 @@ struct FeatureInputs {
   const TrianglePair* pairs;
 };
 
-/// The CPU's loop body for one triangle pair: counts its feature pairs
-/// before and after culling, and returns the bits of those the culling kept
-/// (kept_bit: vertex-face 3 s + i, edge-edge 6 + 3 i + j). The DOPs' float
-/// boxes are tested first: where they are apart the DOPs are (float_box.hpp),
-/// and most culled pairs are apart in x, y or z already.
-__device__ std::uint16_t feature_pairs_of(const FeatureInputs& in, std::uint64_t p, unsigned& vf_before,
-                                          unsigned& vf_after, unsigned& ee_before, unsigned& ee_after) {
-  std::uint16_t kept = 0;
-  const Index side[2] = {in.pairs[p].a, in.pairs[p].b};
-  for (int s = 0; s < 2; ++s) {
-    const Index a = side[s], b = side[1 - s];
-    const Triangle ta = in.tris[a], tb = in.tris[b];
-    for (int i = 0; i < 3; ++i) {
-      if (!(in.masks[a] & (1u << i))) continue;
-      const Index v = ta[i];
-      if (is_corner(tb, v)) continue;
-      ++vf_before;
-      if (float_boxes_may_overlap(in.vertex_boxes[v], in.triangle_boxes[b]) &&
-          dop_overlap(in.vertex_dops[v], in.triangle_dops[b])) {
-        kept |= static_cast<std::uint16_t>(1u << (3 * s + i));
-        ++vf_after;
-      }
-    }
-  }
-  const Index a = side[0], b = side[1];
-  for (int i = 0; i < 3; ++i) {
-    if (!(in.masks[a] & (1u << (3 + i)))) continue;
-    const Index ea = in.edge_ids[a][i];
-    for (int j = 0; j < 3; ++j) {
-      if (!(in.masks[b] & (1u << (3 + j)))) continue;
-      const Index eb = in.edge_ids[b][j];
-      const Edge ga = in.edges[ea], gb = in.edges[eb];
-      if (ga[0] == gb[0] || ga[0] == gb[1] || ga[1] == gb[0] || ga[1] == gb[1]) continue;
-      ++ee_before;
-      if (float_boxes_may_overlap(in.edge_boxes[ea], in.edge_boxes[eb]) &&
-          dop_overlap(in.edge_dops[ea], in.edge_dops[eb])) {
-        kept |= static_cast<std::uint16_t>(1u << (6 + 3 * i + j));
-        ++ee_after;
-      }
-    }
-  }
-  return kept;
-}
+/// A feature pair whose float boxes meet, waiting for its DOP test: a vertex
+/// (or edge) x and a triangle (or edge) y, the lane whose triangle pair it
+/// belongs to and its kept bit.
+struct WaitingFeaturePair {
+  Index x, y;
+  std::uint32_t lane_bit;  ///< lane << 8 | kept bit << 1 | edge-edge
+};
 
-/// Counts the feature pairs of triangle pair p < n and records which the
-/// culling kept (kept[p]), so that write_kernel need not test them again.
+/// Counts the feature pairs of triangle pair p < n before and after culling
+/// and records which the culling kept (kept[p]; kept bit: vertex-face 3 s +
+/// i, edge-edge 6 + 3 i + j), so that write_kernel need not test them again:
+/// the CPU's loop body, one pair a thread. The DOPs' float boxes are tested
+/// first: where they are apart the DOPs are (float_box.hpp), and most culled
+/// pairs are apart in x, y or z already. The feature pairs whose boxes meet
+/// wait in their warp's list in shared memory until it holds 32, whose DOPs
+/// the warp then tests with all its lanes (a lane's boxes meet for a few of
+/// its 15 feature pairs, at other places than its neighbours'). Every thread
+/// of a block runs every step, so warp-wide operations see full warps.
 __global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_count, std::uint64_t* ee_count,
                              std::uint16_t* kept, unsigned long long* counters) {
+  __shared__ WaitingFeaturePair warp_waiting[detail::kBlockSize / 32][64];
+  __shared__ unsigned warp_kept[detail::kBlockSize / 32][32];
+  const unsigned lane = threadIdx.x & 31u;
+  WaitingFeaturePair* const waiting = warp_waiting[threadIdx.x / 32];
+  unsigned* const kept_bits = warp_kept[threadIdx.x / 32];
+  kept_bits[lane] = 0;
+  __syncwarp();
+  unsigned waiting_count = 0;  // the same on every lane of the warp
+  // Tests the DOPs of the first m (at most 32) waiting pairs, a pair a lane,
+  // and drops them from the list.
+  auto test_waiting = [&](unsigned m) {
+    if (lane < m) {
+      const WaitingFeaturePair w = waiting[lane];
+      const bool edges = w.lane_bit & 1u;
+      if (dop_overlap(edges ? in.edge_dops[w.x] : in.vertex_dops[w.x],
+                      edges ? in.edge_dops[w.y] : in.triangle_dops[w.y]))
+        atomicOr(&kept_bits[w.lane_bit >> 8], 1u << ((w.lane_bit >> 1) & 127u));
+    }
+    const bool moves = lane + m < waiting_count;
+    WaitingFeaturePair moved{};
+    if (moves) moved = waiting[lane + m];
+    __syncwarp();
+    if (moves) waiting[lane] = moved;
+    __syncwarp();
+    waiting_count -= m;
+  };
+  // Appends the feature pairs of the lanes with `take` set to the list.
+  auto push = [&](bool take, Index x, Index y, unsigned bit, bool edges) {
+    const unsigned mask = __ballot_sync(0xffffffffu, take);
+    if (take) waiting[waiting_count + __popc(mask & ((1u << lane) - 1u))] = {x, y, lane << 8 | bit << 1 | edges};
+    waiting_count += __popc(mask);
+    __syncwarp();
+    if (waiting_count >= 32) test_waiting(32);
+  };
+
   const std::uint64_t p = thread_item();
-  unsigned vf_before = 0, vf_after = 0, ee_before = 0, ee_after = 0;
-  if (p < n) {
-    kept[p] = feature_pairs_of(in, p, vf_before, vf_after, ee_before, ee_after);
-    vf_count[p] = vf_after;
-    ee_count[p] = ee_after;
+  const bool valid = p < n;
+  unsigned vf_before = 0, ee_before = 0;
+  Index side[2] = {0, 0};
+  if (valid) {
+    side[0] = in.pairs[p].a;
+    side[1] = in.pairs[p].b;
+  }
+  const Triangle t[2] = {in.tris[side[0]], in.tris[side[1]]};
+  const std::uint8_t masks[2] = {in.masks[side[0]], in.masks[side[1]]};
+  for (int s = 0; s < 2; ++s) {
+    for (int i = 0; i < 3; ++i) {
+      const Index v = t[s][i], face = side[1 - s];
+      bool take = false;
+      if (valid && (masks[s] & (1u << i)) && !is_corner(t[1 - s], v)) {
+        ++vf_before;
+        take = float_boxes_may_overlap(in.vertex_boxes[v], in.triangle_boxes[face]);
+      }
+      push(take, v, face, 3 * s + i, false);
+    }
+  }
+  const std::array<Index, 3> edges_a = in.edge_ids[side[0]], edges_b = in.edge_ids[side[1]];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const Index ea = edges_a[i], eb = edges_b[j];
+      bool take = false;
+      if (valid && (masks[0] & (1u << (3 + i))) && (masks[1] & (1u << (3 + j)))) {
+        const Edge ga = in.edges[ea], gb = in.edges[eb];
+        if (!(ga[0] == gb[0] || ga[0] == gb[1] || ga[1] == gb[0] || ga[1] == gb[1])) {
+          ++ee_before;
+          take = float_boxes_may_overlap(in.edge_boxes[ea], in.edge_boxes[eb]);
+        }
+      }
+      push(take, ea, eb, 6 + 3 * i + j, true);
+    }
+  }
+  if (waiting_count > 0) test_waiting(waiting_count);
+  __syncwarp();
+  if (valid) {
+    const unsigned bits = kept_bits[lane];
+    kept[p] = static_cast<std::uint16_t>(bits);
+    vf_count[p] = __popc(bits & 63u);
+    ee_count[p] = __popc(bits >> 6);
   } else if (p == n) {
     vf_count[p] = 0;
     ee_count[p] = 0;
@@ -112,7 +156,7 @@ struct FeatureKeyBits {
 
 /// Writes the keys of the kept feature pairs of pairs [first, first + n)
 /// (vertex << bits.face | face, edge_a << bits.edge | edge_b with edge_a <
-/// edge_b), in the order feature_pairs_of finds them, at their offsets less
+/// edge_b), in the order count_kernel finds them, at their offsets less
 /// those of pair `first`.
 __global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t n, const std::uint16_t* kept,
                              const std::uint64_t* vf_offset, const std::uint64_t* ee_offset, FeatureKeyBits bits,
