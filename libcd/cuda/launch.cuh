@@ -38,4 +38,29 @@ __device__ __forceinline__ unsigned long long warp_append(bool take, unsigned lo
   return base + __popc(mask & ((1u << lane) - 1u));
 }
 
+/// A warp's list in shared memory, of which every lane holds the length
+/// `count`: appends the items of the lanes with `take` set, in lane order.
+/// Every lane of the warp must call it.
+template <class T>
+__device__ __forceinline__ void warp_list_push(bool take, const T& item, T* list, unsigned& count) {
+  const unsigned mask = __ballot_sync(0xffffffffu, take);
+  if (take) list[count + __popc(mask & ((1u << (threadIdx.x & 31u)) - 1u))] = item;
+  count += __popc(mask);
+  __syncwarp();
+}
+
+/// Drops the first n items of a warp's list (warp_list_push), of which at
+/// most 32 remain after them. Every lane of the warp must call it.
+template <class T>
+__device__ __forceinline__ void warp_list_drop(T* list, unsigned& count, unsigned n) {
+  const unsigned lane = threadIdx.x & 31u;
+  const bool moves = lane + n < count;
+  T moved{};
+  if (moves) moved = list[lane + n];
+  __syncwarp();
+  if (moves) list[lane] = moved;
+  __syncwarp();
+  count -= n;
+}
+
 }  // namespace snag::detail

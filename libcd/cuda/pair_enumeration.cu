@@ -290,22 +290,6 @@ __global__ void __launch_bounds__(detail::kBlockSize)
   std::uint64_t* const waiting = warp_waiting[threadIdx.x / 32];
   std::uint64_t* const keeping = warp_keeping[threadIdx.x / 32];
   unsigned waiting_count = 0, keeping_count = 0;
-  // Appends the keys of the lanes with `take` set to one of the warp's lists.
-  auto push = [&](bool take, std::uint64_t key, std::uint64_t* list, unsigned& count) {
-    const unsigned mask = __ballot_sync(0xffffffffu, take);
-    if (take) list[count + __popc(mask & ((1u << lane) - 1u))] = key;
-    count += __popc(mask);
-    __syncwarp();
-  };
-  // Drops the first n entries of a list (n = 32, or all of them).
-  auto drop = [&](std::uint64_t* list, unsigned& count, unsigned n) {
-    const bool moves = lane + n < count;
-    const std::uint64_t moved = moves ? list[lane + n] : 0;
-    __syncwarp();
-    if (moves) list[lane] = moved;
-    __syncwarp();
-    count -= n;
-  };
   auto record_cull = [&](bool cull, std::uint64_t key) {
     if (count_culled) {
       const unsigned long long slot = detail::warp_append(cull, &counters[kCulled]);
@@ -320,7 +304,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
     if (lane == 0) base = atomicAdd(&counters[kKept], static_cast<unsigned long long>(n));
     base = __shfl_sync(0xffffffffu, base, 0);
     if (lane < n && base + lane < kept_capacity) kept[base + lane] = keeping[lane];
-    drop(keeping, keeping_count, n);
+    detail::warp_list_drop(keeping, keeping_count, n);
   };
   // Tests the roots' DOPs of the first n (at most 32) waiting keys, a key a lane.
   auto test_waiting = [&](unsigned n) {
@@ -337,8 +321,8 @@ __global__ void __launch_bounds__(detail::kBlockSize)
         cull = true;
       }
     }
-    drop(waiting, waiting_count, n);
-    push(keep, key, keeping, keeping_count);
+    detail::warp_list_drop(waiting, waiting_count, n);
+    detail::warp_list_push(keep, key, keeping, keeping_count);
     if (keeping_count >= 32) write_kept(32);
     record_cull(cull, key);
   };
@@ -411,7 +395,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
           }
         }
       }
-      push(wait, key, waiting, waiting_count);
+      detail::warp_list_push(wait, key, waiting, waiting_count);
       if (waiting_count >= 32) test_waiting(32);
       record_cull(cull, key);
     };

@@ -80,20 +80,12 @@ __global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_
                       edges ? in.edge_dops[w.y] : in.triangle_dops[w.y]))
         atomicOr(&kept_bits[w.lane_bit >> 8], 1u << ((w.lane_bit >> 1) & 127u));
     }
-    const bool moves = lane + m < waiting_count;
-    WaitingFeaturePair moved{};
-    if (moves) moved = waiting[lane + m];
-    __syncwarp();
-    if (moves) waiting[lane] = moved;
-    __syncwarp();
-    waiting_count -= m;
+    detail::warp_list_drop(waiting, waiting_count, m);
   };
   // Appends the feature pairs of the lanes with `take` set to the list.
   auto push = [&](bool take, Index x, Index y, unsigned bit, bool edges) {
-    const unsigned mask = __ballot_sync(0xffffffffu, take);
-    if (take) waiting[waiting_count + __popc(mask & ((1u << lane) - 1u))] = {x, y, lane << 8 | bit << 1 | edges};
-    waiting_count += __popc(mask);
-    __syncwarp();
+    const WaitingFeaturePair pair{x, y, lane << 8 | bit << 1 | edges};
+    detail::warp_list_push(take, pair, waiting, waiting_count);
     if (waiting_count >= 32) test_waiting(32);
   };
 
