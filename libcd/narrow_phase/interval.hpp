@@ -50,12 +50,14 @@ SNAG_HD_INLINE double double_of(int64_t bits) {
 /// The next double above x: nextafter(x, +inf) for finite x, by stepping the
 /// bit pattern (a library call costs more than the interval operation it
 /// rounds). +inf and NaN are returned as they are; -0 and +0 step to the
-/// smallest positive subnormal.
+/// smallest positive subnormal. Written as selects, without branches: the
+/// GPU's time search runs thousands of these a query, and branches there
+/// cost a convergence barrier each.
 SNAG_HD_INLINE double next_up(double x) {
-  if (!(x < INFINITY)) return x;  // +inf or NaN
-  if (x == 0) return interval_detail::double_of(1);
   const int64_t bits = interval_detail::bits_of(x);
-  return interval_detail::double_of(x > 0 ? bits + 1 : bits - 1);
+  const int64_t stepped = bits + (bits < 0 ? int64_t{-1} : int64_t{1});  // away from zero above it, towards below
+  const int64_t up = x == 0 ? int64_t{1} : stepped;
+  return interval_detail::double_of(x < INFINITY ? up : bits);  // +inf and NaN as they are
 }
 /// The next double below x (see next_up).
 SNAG_HD_INLINE double next_down(double x) { return -next_up(-x); }
