@@ -15,7 +15,9 @@
 //    reading the broad phase's candidates in place, the vertex-face and the
 //    edge-edge queries one after the other, each with its own buffers, so
 //    that the host copies both's events (set_defer_events) only once the
-//    device has its next work (see overlap below). The GPU runs the screen
+//    device has its next work (see overlap below), on a thread of their own
+//    (event_copies_), so that the thread that drives the device never waits
+//    for a large list to grow. The GPU runs the screen
 //    (early exits and the search over time) and builds the hits' events
 //    (event_fields.hpp, the CPU's formulas); only the events come back to
 //    the host. The few candidates the screen
@@ -194,6 +196,25 @@ class SetOnExit {
   std::promise<void>& promise_;
 };
 
+/// Waits for a TaskQueueThread when it goes, whichever way: its tasks are
+/// done before what they write is read or freed (an error of theirs while
+/// another unwinds is dropped: the one unwinding is reported).
+class WaitOnExit {
+ public:
+  explicit WaitOnExit(TaskQueueThread& thread) : thread_(thread) {}
+  ~WaitOnExit() {
+    try {
+      thread_.wait();
+    } catch (...) {
+    }
+  }
+  WaitOnExit(const WaitOnExit&) = delete;
+  WaitOnExit& operator=(const WaitOnExit&) = delete;
+
+ private:
+  TaskQueueThread& thread_;
+};
+
 /// One frame's static detection on the device: its intersection events
 /// (built on the device) and the counts.
 struct StaticFound {
@@ -217,6 +238,8 @@ class CudaBackend final : public Backend {
     narrow_.set_defer_events(true);
     edge_narrow_.set_defer_events(true);
     static_narrow_.set_defer_events(true);
+    narrow_.set_event_copies(&event_copies_);
+    edge_narrow_.set_event_copies(&event_copies_);
   }
 
   ~CudaBackend() override {
@@ -541,7 +564,14 @@ class CudaBackend final : public Backend {
     // Each chunk's events are copied on the host when the next chunk comes
     // (vertex-face, then edge-edge), while the device works on its first
     // round: the staged events are claimed, then those the narrow phases
-    // hold deferred appended in order.
+    // hold deferred appended in order, on event_copies_ (waited for before
+    // `events` is read or cut, and before this returns).
+    const WaitOnExit copied_on_exit(event_copies_);
+    // Room for about as many events as the last step had, taken at once
+    // (untouched, so it costs no copy): else a large list would grow by
+    // copying all it holds, tens of megabytes, while the narrow phase waits
+    // for its buffer.
+    events.reserve(first + ccd_events_last_ + ccd_events_last_ / 4);
     const std::function<void()> flush_deferred = [&] {
       claim();
       narrow_.flush_events();
@@ -559,6 +589,7 @@ class CudaBackend final : public Backend {
     };
     bool again = false;
     detect_within_budget(ccd_detection(), static_detection(), [&] {
+      event_copies_.wait();
       events.resize(first);
       if (std::exchange(again, true)) {  // the pass before this one may have left events staged
         claim();
@@ -572,6 +603,8 @@ class CudaBackend final : public Backend {
       ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk);
     });
     claim();  // a step without candidates
+    event_copies_.wait();
+    ccd_events_last_ = events.size() - first;
     found.broad = ccd_broad_->stats();
     double device_ms = 0;
     for (const CudaNarrowPhase* part : {&narrow_, &edge_narrow_}) {
@@ -736,6 +769,7 @@ class CudaBackend final : public Backend {
   StaticFound static_found_;
   CcdFound ccd_found_;          ///< the last step's CCD
   CcdFound ccd_ahead_found_;    ///< the next step's, detected ahead (ccd_ahead_)
+  std::size_t ccd_events_last_ = 0;  ///< events the last CCD detection found (before the host's settle)
   EventScratch event_scratch_;  ///< the settle's and the sort's room, kept from step to step
   bool static_seen_ = false;          ///< intersections() was called since bind()
   std::future<void> worker_task_;     ///< what start_ahead() gave the worker
@@ -755,6 +789,7 @@ class CudaBackend final : public Backend {
   // kernel (cloth_ball on an H100). Last, so that they stop first.
   WorkerThread static_worker_;  ///< runs static_ahead_ beside ccd_ahead_ (together_)
   WorkerThread worker_;         ///< runs ccd_ahead_ and, one after the other, static_ahead_
+  TaskQueueThread event_copies_;  ///< appends the CCD's deferred events (narrow_, edge_narrow_) in order
 };
 
 }  // namespace

@@ -457,8 +457,10 @@ const T* CudaNarrowPhase::stage_selected(const T* items, std::size_t count) {
 
 template <class Launch>
 void CudaNarrowPhase::stage_events(std::size_t hits, std::size_t slice, Launch launch) {
-  host_gathered_.resize(hits * sizeof(Event));
-  Event* host = reinterpret_cast<Event*>(host_gathered_.data());  // cudaMallocHost memory: aligned for any T
+  staged_events_ ^= 1;  // the other buffer may still be read by event_copies_
+  if (handed_events_[staged_events_] != 0) event_copies_->wait_for(std::exchange(handed_events_[staged_events_], 0));
+  host_events_[staged_events_].resize(hits);
+  Event* host = host_events_[staged_events_].data();
   slice = std::max<std::size_t>(1, std::min(slice, hits));
   Event* device = gathered_as<Event>(slice, "events");
   // In stream order, a slice's kernel starts after the previous slice's copy.
@@ -475,17 +477,27 @@ void CudaNarrowPhase::append_staged_events(std::size_t count, std::vector<Event>
   gathered_.release();
   pending_to_ = &events;
   pending_count_ = count;
-  if (!defer_events_) flush_events();
+  if (!defer_events_) flush_events_to(events);
 }
 
 void CudaNarrowPhase::flush_events() {
-  if (pending_to_ != nullptr) flush_events_to(*pending_to_);
+  if (pending_to_ == nullptr) return;
+  if (event_copies_ == nullptr || pending_count_ == 0) {
+    flush_events_to(*pending_to_);
+    return;
+  }
+  std::vector<Event>* to = std::exchange(pending_to_, nullptr);
+  const Event* staged = host_events_[staged_events_].data();
+  const std::size_t count = pending_count_;
+  // A plain copy on that thread: a round's events are a few megabytes, and
+  // the host's threads sort and certify the last step's meanwhile.
+  handed_events_[staged_events_] =
+      event_copies_->post([to, staged, count] { to->insert(to->end(), staged, staged + count); });
 }
 
 void CudaNarrowPhase::flush_events_to(std::vector<Event>& events) {
   if (std::exchange(pending_to_, nullptr) == nullptr || pending_count_ == 0) return;
-  const Event* staged = reinterpret_cast<const Event*>(host_gathered_.data());  // cudaMallocHost: aligned
-  append_events(events, staged, pending_count_);
+  append_events(events, host_events_[staged_events_].data(), pending_count_);
 }
 
 template <class Query>
@@ -550,7 +562,7 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   }
   SNAG_CUDA_CHECK_LAUNCH();
   // While the device works: the caller's work, then the deferred events of
-  // the last call or round (host_gathered_ is reused below).
+  // the last call or round (their buffer is staged in again a round later).
   if (sink.while_busy != nullptr && *sink.while_busy) (*sink.while_busy)();
   flush_events();
   screened.record(stream_);
@@ -684,7 +696,7 @@ std::size_t CudaNarrowPhase::triangle_pairs_chunk(const Vec3* x, const Triangle*
   triangle_pairs_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(x, corners, pairs, count, flags_.data(),
                                                                        counters_.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  flush_events();  // while the device tests (host_gathered_ is reused below)
+  flush_events();  // while the device tests
   tested.record(stream_);
   const std::size_t intersecting = select_flagged(count);
   const TrianglePair* staged_pairs = nullptr;

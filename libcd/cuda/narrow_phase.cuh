@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "libcd/broad_phase/candidates.hpp"
+#include "libcd/core/worker_thread.hpp"
 #include "libcd/cuda/device_buffer.cuh"
 #include "libcd/geometry/vec3.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
@@ -159,9 +160,18 @@ class CudaNarrowPhase {
   /// own; drop_events() forgets them.
   void set_defer_events(bool defer) { defer_events_ = defer; }
   void flush_events();
-  /// As flush_events(), to `events` instead of the vector the call was given.
+  /// As flush_events(), to `events` instead of the vector the call was given,
+  /// always on this thread.
   void flush_events_to(std::vector<Event>& events);
   void drop_events() { pending_to_ = nullptr; }
+  /// Deferred events that flush_events() appends go to `thread` (null: none,
+  /// the default), which appends them while this thread drives the device: a
+  /// large list grows by tens of megabytes a step, and the device would
+  /// wait for that. Narrow phases that append to one list share a thread,
+  /// which keeps the order they flush in; the list is complete once the
+  /// thread has been waited for. Each round stages its events in the other
+  /// of two pinned buffers, so the next round need not wait for the thread.
+  void set_event_copies(TaskQueueThread* thread) { event_copies_ = thread; }
 
   /// Candidates (or pairs) per kernel round; a call over more runs in rounds
   /// of this many, so that the device memory of a call is bounded by the
@@ -248,8 +258,12 @@ class CudaNarrowPhase {
   PinnedBuffer<std::uint32_t> host_indices_;
   PinnedBuffer<CcdResult> host_results_;
   PinnedBuffer<unsigned char> host_gathered_;
+  PinnedBuffer<Event> host_events_[2];       ///< a round's events, in the one after the last round's
+  int staged_events_ = 0;                    ///< which of host_events_ the last round staged in
+  std::uint64_t handed_events_[2] = {0, 0};  ///< event_copies_'s ticket of a copy that may read it, or 0
+  TaskQueueThread* event_copies_ = nullptr;
   std::vector<Event>* pending_to_ = nullptr;  ///< deferred events go there (flush_events), when not null
-  std::size_t pending_count_ = 0;             ///< how many, in host_gathered_
+  std::size_t pending_count_ = 0;             ///< how many, in host_events_[staged_events_]
   bool defer_events_ = false;
   NarrowPhaseTimings timings_;
   std::size_t chunk_size_ = kDefaultChunkSize;

@@ -7,9 +7,12 @@
 // and random triangle pairs against triangles_intersect, predicate counts included.
 // Events built on the device are bit-identical to those the host builds of
 // the same hits with the same formulas (event_fields.hpp).
+#include "libcd/cuda/narrow_phase.cuh"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -19,7 +22,6 @@
 #include "gpu_test.hpp"
 #include "io/ccd_query_csv.hpp"
 #include "libcd/cuda/device_buffer.cuh"
-#include "libcd/cuda/narrow_phase.cuh"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
@@ -338,6 +340,46 @@ TEST_F(NarrowPhaseCcdQueries, DeferredEventsComeInTheOrderOfAppendingAtOnce) {
     deferred.flush_events();
     EXPECT_EQ(dropped.size(), kept) << where;
     EXPECT_EQ(again.size(), expected.size() - vf_events) << where;
+  }
+}
+
+// As the back end runs them: a vertex-face and an edge-edge narrow phase
+// append to one list, each flushing both's deferred events while its first
+// round runs, and the appends go to a thread of their own; in many rounds,
+// so that each round's pinned buffer alternates and waits for that thread.
+TEST_F(NarrowPhaseCcdQueries, DeferredEventsCopiedOnAThreadComeInTheOrderOfAppendingAtOnce) {
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  const QueryBatch batch = make_batch(queries);
+  const DeviceBatch device(batch);
+  const CcdSettings settings;
+  for (const std::size_t chunk : {std::size_t{97}, CudaNarrowPhase::kDefaultChunkSize}) {
+    const std::string where = "rounds of " + std::to_string(chunk);
+    CudaNarrowPhase at_once(nullptr), vertex_face(nullptr), edge_edge(nullptr);
+    TaskQueueThread copies;
+    for (CudaNarrowPhase* narrow : {&at_once, &vertex_face, &edge_edge}) narrow->set_chunk_size(chunk);
+    for (CudaNarrowPhase* narrow : {&vertex_face, &edge_edge}) {
+      narrow->set_defer_events(true);
+      narrow->set_event_copies(&copies);
+    }
+    const std::function<void()> flush_both = [&] {
+      vertex_face.flush_events();
+      edge_edge.flush_events();
+    };
+    std::vector<Event> expected, events;
+    for (int step = 0; step < 3; ++step) {  // as chunks of a step
+      at_once.vertex_face_events(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
+                                 batch.vf.size(), settings, CcdPasses::kScreenOnly, expected);
+      at_once.edge_edge_events(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(),
+                               batch.ee.size(), settings, CcdPasses::kScreenOnly, expected);
+      vertex_face.vertex_face_events(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
+                                     batch.vf.size(), settings, CcdPasses::kScreenOnly, events, flush_both);
+      edge_edge.edge_edge_events(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(),
+                                 batch.ee.size(), settings, CcdPasses::kScreenOnly, events, flush_both);
+    }
+    flush_both();
+    copies.wait();
+    ASSERT_GT(expected.size(), 0u) << where;
+    test::expect_same_events(expected, events, where);
   }
 }
 
