@@ -53,9 +53,10 @@ struct IsolatedQuery {
 // isolated queries, whose count only the device knows.
 constexpr int kRefineBlocksPerSm = 8;
 // The quick kernel's resident blocks per multiprocessor (its launch bound:
-// 168 registers a thread, at most 0.3 kB of spills); its lanes take queries
-// until none is left.
-constexpr int kQuickBlocksPerSm = 3;
+// 255 registers a thread, about 0.2 kB of spills); its lanes take queries
+// until none is left. Three blocks (168 registers, 1.2 kB of spills) took
+// 15% longer on cloth_ball (H200), four 5% longer still.
+constexpr int kQuickBlocksPerSm = 2;
 
 constexpr unsigned kFullWarp = 0xffffffffu;
 // The quick kernel's lanes whose searches ended take new queries together,
