@@ -1,5 +1,7 @@
-// A thread that runs one task at a time, kept for its owner's life: work
-// handed on every frame or step without starting a thread each time.
+// Threads kept for their owner's life, so that work handed on every frame or
+// step starts no thread each time: a queue of tasks run in order
+// (TaskQueueThread), and a worker whose tasks answer through futures
+// (WorkerThread).
 #pragma once
 
 #include <condition_variable>
@@ -8,59 +10,12 @@
 #include <exception>
 #include <functional>
 #include <future>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <utility>
 
 namespace snag {
-
-class WorkerThread {
- public:
-  WorkerThread() : thread_([this] { loop(); }) {}
-  /// Finishes the task it runs, if any, and ends the thread.
-  ~WorkerThread() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_one();
-    thread_.join();
-  }
-  WorkerThread(const WorkerThread&) = delete;
-  WorkerThread& operator=(const WorkerThread&) = delete;
-
-  /// Runs `task` on the thread; the future holds what it threw. The future
-  /// of the previous task must have been waited for.
-  std::future<void> run(std::function<void()> task) {
-    std::packaged_task<void()> packaged(std::move(task));
-    std::future<void> done = packaged.get_future();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      task_ = std::move(packaged);
-    }
-    wake_.notify_one();
-    return done;
-  }
-
- private:
-  void loop() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    for (;;) {
-      wake_.wait(lock, [this] { return stop_ || task_.valid(); });
-      if (!task_.valid()) return;  // stopped
-      std::packaged_task<void()> task = std::move(task_);
-      lock.unlock();
-      task();
-      lock.lock();
-    }
-  }
-
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  std::packaged_task<void()> task_;  ///< valid while a task waits for the thread
-  bool stop_ = false;
-  std::thread thread_;  ///< last: it starts once the members above are
-};
 
 /// A thread that runs the tasks handed to it one after another, in the order
 /// they were handed, while the thread that hands them goes on: copies a
@@ -145,6 +100,24 @@ class TaskQueueThread {
   bool stop_ = false;
   std::exception_ptr error_;  ///< the first task that threw since the last wait
   std::thread thread_;        ///< last: it starts once the members above are
+};
+
+/// A thread that runs one task at a time, kept for its owner's life: work
+/// handed on every frame or step without starting a thread each time.
+class WorkerThread {
+ public:
+  /// Runs `task` on the thread, after the tasks handed before it; the future
+  /// holds what it threw. The thread finishes what it was handed before the
+  /// worker goes.
+  std::future<void> run(std::function<void()> task) {
+    auto packaged = std::make_shared<std::packaged_task<void()>>(std::move(task));
+    std::future<void> done = packaged->get_future();
+    queue_.post([packaged] { (*packaged)(); });  // its error goes to the future, not to the queue
+    return done;
+  }
+
+ private:
+  TaskQueueThread queue_;
 };
 
 }  // namespace snag

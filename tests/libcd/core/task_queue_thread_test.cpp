@@ -1,7 +1,8 @@
 // TaskQueueThread (worker_thread.hpp): tasks run in the order handed, off the
 // handing thread, wait() sees them all done and wait_for(ticket) those up to
 // the ticket's, and a task that throws is rethrown once with the tasks after
-// it dropped.
+// it dropped; WorkerThread runs its tasks in turn, each future holding its
+// own task's error.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -116,6 +117,18 @@ TEST(TaskQueueThread, RunsWhatIsQueuedBeforeItGoes) {
     }
   }
   EXPECT_EQ(done.load(), 10);
+}
+
+TEST(WorkerThread, RunsTasksInTurnAndEachFutureHoldsItsOwnError) {
+  WorkerThread worker;
+  std::vector<int> ran;
+  std::future<void> first = worker.run([&] { ran.push_back(1); });
+  std::future<void> failing = worker.run([] { throw std::runtime_error("second"); });
+  std::future<void> third = worker.run([&] { ran.push_back(3); });  // not dropped: the error is the future's
+  EXPECT_NO_THROW(first.get());
+  EXPECT_THROW(failing.get(), std::runtime_error);
+  EXPECT_NO_THROW(third.get());
+  EXPECT_EQ(ran, (std::vector<int>{1, 3}));
 }
 
 }  // namespace
