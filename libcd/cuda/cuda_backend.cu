@@ -567,7 +567,7 @@ class CudaBackend final : public Backend {
     // hold deferred appended in order, on event_copies_ (waited for before
     // `events` is read or cut, and before this returns).
     const WaitOnExit copied_on_exit(event_copies_);
-    // Room for about as many events as the last step had, taken at once
+    // Room for about as many events as the last step appended, taken at once
     // (untouched, so it costs no copy): else a large list would grow by
     // copying all it holds, tens of megabytes, while the narrow phase waits
     // for its buffer.
@@ -769,7 +769,7 @@ class CudaBackend final : public Backend {
   StaticFound static_found_;
   CcdFound ccd_found_;          ///< the last step's CCD
   CcdFound ccd_ahead_found_;    ///< the next step's, detected ahead (ccd_ahead_)
-  std::size_t ccd_events_last_ = 0;  ///< events the last CCD detection found (before the host's settle)
+  std::size_t ccd_events_last_ = 0;  ///< events the last CCD detection appended (its last chunk's stay staged)
   EventScratch event_scratch_;  ///< the settle's and the sort's room, kept from step to step
   bool static_seen_ = false;          ///< intersections() was called since bind()
   std::future<void> worker_task_;     ///< what start_ahead() gave the worker
