@@ -1,12 +1,14 @@
 #include "report/regions.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <limits>
 #include <numeric>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
+#include <stdexcept>
 
 #include "libcd/pipeline/event_objects.hpp"
 
@@ -21,33 +23,23 @@ constexpr std::size_t kEventsPerTask = 2048;
 // runs of one group listed on one thread.
 constexpr std::size_t kEventsPerBlock = 16384;
 // Words of the face marks (64 faces each) listed per task.
-constexpr std::size_t kWordsPerTask = 256;
+constexpr std::size_t kWordsPerTask = 32;
 
 void grow(Bounds& bounds, const Vec3& p) {
   bounds.lo = {std::min(bounds.lo.x, p.x), std::min(bounds.lo.y, p.y), std::min(bounds.lo.z, p.z)};
   bounds.hi = {std::max(bounds.hi.x, p.x), std::max(bounds.hi.y, p.y), std::max(bounds.hi.z, p.z)};
 }
 
+// Grows `bounds` to hold `other` (either may be empty).
+void grow(Bounds& bounds, const Bounds& other) {
+  bounds.lo = {std::min(bounds.lo.x, other.lo.x), std::min(bounds.lo.y, other.lo.y), std::min(bounds.lo.z, other.lo.z)};
+  bounds.hi = {std::max(bounds.hi.x, other.hi.x), std::max(bounds.hi.y, other.hi.y), std::max(bounds.hi.z, other.hi.z)};
+}
+
 Bounds empty_bounds() {
   const double inf = std::numeric_limits<double>::infinity();
   return {{inf, inf, inf}, {-inf, -inf, -inf}};
 }
-
-// Lowers `value` to `candidate` if that is smaller.
-void lower_to(std::atomic<std::size_t>& value, std::size_t candidate) {
-  std::size_t seen = value.load(std::memory_order_relaxed);
-  while (candidate < seen && !value.compare_exchange_weak(seen, candidate, std::memory_order_relaxed)) {
-  }
-}
-
-// A region's events added up one after the other, in event order (the
-// centroid's sum is rounded as it always was).
-struct RegionSums {
-  std::size_t events = 0;
-  Vec3 position_sum{0, 0, 0};
-  Bounds bounds = empty_bounds();
-  double toi = std::numeric_limits<double>::infinity();
-};
 
 }  // namespace
 
@@ -59,10 +51,12 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
 RegionBuilder::RegionBuilder(const Scene& scene)
     : scene_(scene),
       face_marks_(new std::atomic<std::uint64_t>[(scene.triangle_count() + 63) / 64]()),
-      vertex_face_(new std::atomic<Index>[scene.vertex_count()]()),
-      face_sets_(scene.triangle_count()),
-      first_of_root_(new std::atomic<std::size_t>[scene.triangle_count()]()),
+      vertex_marks_(new std::atomic<std::uint64_t>[(scene.vertex_count() + 63) / 64]()),
+      edge_marks_(new std::atomic<std::uint64_t>[(scene.edges().size() + 63) / 64]()),
+      face_sets_(scene.triangle_count() + scene.vertex_count()),
       region_of_root_(scene.triangle_count(), kNone) {
+  if (scene.triangle_count() + scene.vertex_count() > std::numeric_limits<Index>::max())
+    throw std::length_error("a scene's faces and vertices together outnumber the region builder's ids");
   touched_.reserve(scene.triangle_count());  // listing the marked faces then allocates nothing
   const auto& triangles = scene.triangles();
   vertex_face_start_.assign(scene.vertex_count() + 1, 0);
@@ -86,119 +80,141 @@ RegionBuilder::RegionBuilder(const Scene& scene)
   }
 }
 
+namespace {
+
+// Sets bit `id` of `words` (read before it is written, so that a bit set
+// already costs no atomic write).
+void mark(std::atomic<std::uint64_t>* words, std::size_t id) {
+  std::atomic<std::uint64_t>& word = words[id / 64];
+  const std::uint64_t bit = std::uint64_t{1} << (id % 64);
+  if ((word.load(std::memory_order_relaxed) & bit) == 0) word.fetch_or(bit, std::memory_order_relaxed);
+}
+
+// The words of a bit set (64 ids each) that hold two objects' ids, [a_begin,
+// a_end) and [b_begin, b_end), numbered 0 .. size() - 1.
+class ObjectWords {
+ public:
+  ObjectWords(std::size_t a_begin, std::size_t a_end, std::size_t b_begin, std::size_t b_end)
+      : a_begin_(a_begin / 64),
+        a_end_((a_end + 63) / 64),
+        b_begin_(std::max(a_end_, b_begin / 64)),
+        b_end_(std::max(b_begin_, (b_end + 63) / 64)) {}
+  std::size_t size() const { return (a_end_ - a_begin_) + (b_end_ - b_begin_); }
+  std::size_t operator[](std::size_t w) const {
+    return w < a_end_ - a_begin_ ? a_begin_ + w : b_begin_ + (w - (a_end_ - a_begin_));
+  }
+
+ private:
+  std::size_t a_begin_, a_end_, b_begin_, b_end_;
+};
+
+// Calls visit(id) for every set bit of the words `words` numbers in [begin,
+// end), in ascending order, and clears them.
 template <class Visit>
-void RegionBuilder::for_each_event_face(const Event& e, Visit visit) const {
-  auto around_vertex = [&](Index v) {
-    for (Index k = vertex_face_start_[v]; k < vertex_face_start_[v + 1]; ++k) visit(vertex_faces_[k]);
-  };
-  auto on_edge = [&](Index id) {
-    for (Index k = edge_face_start_[id]; k < edge_face_start_[id + 1]; ++k) visit(edge_faces_[k]);
-  };
-  if (e.kind == EventKind::kIntersection) {
-    visit(e.a);
-    visit(e.b);
-  } else if (e.type == ContactType::kVertexFace) {
-    visit(e.b);
-    around_vertex(e.a);
-  } else {
-    on_edge(e.a);
-    on_edge(e.b);
+void take_marks(std::atomic<std::uint64_t>* bits, const ObjectWords& words, std::size_t begin, std::size_t end,
+                Visit visit) {
+  for (std::size_t w = begin; w < end; ++w) {
+    std::atomic<std::uint64_t>& word = bits[words[w]];
+    for (std::uint64_t set = word.load(std::memory_order_relaxed); set != 0; set &= set - 1)
+      visit(static_cast<Index>(64 * words[w] + static_cast<std::size_t>(__builtin_ctzll(set))));
+    word.store(0, std::memory_order_relaxed);
   }
 }
 
-// The first face for_each_event_face visits: every edge of a scene lies on a face.
-Index RegionBuilder::first_face(const Event& e) const {
-  if (e.kind == EventKind::kIntersection) return e.a;
-  if (e.type == ContactType::kVertexFace) return e.b;
-  const Index on_a = edge_face_start_[e.a];
-  return on_a < edge_face_start_[e.a + 1] ? edge_faces_[on_a] : edge_faces_[edge_face_start_[e.b]];
-}
-
-// A face for_each_event_face visits of the event's second element (the
-// first face around the vertex of a vertex-face pair, the first face on
-// edge b).
-Index RegionBuilder::second_face(const Event& e) const {
-  if (e.kind == EventKind::kIntersection) return e.b;
-  if (e.type == ContactType::kVertexFace) {  // a vertex on no face (a loose one) joins nothing
-    const Index around = vertex_face_start_[e.a];
-    return around < vertex_face_start_[e.a + 1] ? vertex_faces_[around] : e.b;
-  }
-  return edge_faces_[edge_face_start_[e.b]];
-}
+}  // namespace
 
 void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group,
                                std::size_t object_a, std::size_t object_b) {
   const auto& triangles = scene_.triangles();
-  const tbb::blocked_range<std::size_t> all_events(0, group.size(), kEventsPerTask);
-  // One face of each element of each event, kept so that the passes after
-  // this one read 8 bytes per event instead of the event; every face of
-  // every event marked (a word of 64 faces is read before it is written, so
-  // that a face marked already costs no atomic write).
-  event_first_face_.resize(group.size());
-  event_second_face_.resize(group.size());
-  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      const Event& e = events[group[k]];
-      event_first_face_[k] = first_face(e);
-      event_second_face_[k] = second_face(e);
-      for_each_event_face(e, [&](Index f) {
-        std::atomic<std::uint64_t>& word = face_marks_[f / 64];
-        const std::uint64_t bit = std::uint64_t{1} << (f % 64);
-        if ((word.load(std::memory_order_relaxed) & bit) == 0) word.fetch_or(bit, std::memory_order_relaxed);
-      });
+  const auto& edges = scene_.edges();
+  face_sets_.clear();
+  // One pass over the group's events, the only one that reads them: the
+  // elements of each event marked (a face, a vertex for the faces around
+  // it, an edge for the faces on it), the event's elements joined through
+  // their sets (a vertex's set, once its faces are joined with it below,
+  // holds them; an edge's faces hold its first end), and what the regions
+  // need of the event kept, 40 bytes instead of the event. A vertex on no
+  // face (a loose one) joins nothing.
+  event_first_set_.resize(group.size());
+  event_place_.resize(group.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group.size(), kEventsPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t k = range.begin(); k < range.end(); ++k) {
+                        const Event& e = events[group[k]];
+                        event_place_[k] = {e.position, static_cast<double>(e.frame) + e.toi_lo};
+                        Index first = e.a, second = e.b;
+                        if (e.kind == EventKind::kIntersection) {
+                          mark(face_marks_.get(), e.a);
+                          mark(face_marks_.get(), e.b);
+                        } else if (e.type == ContactType::kVertexFace) {
+                          mark(face_marks_.get(), e.b);
+                          mark(vertex_marks_.get(), e.a);
+                          first = e.b;
+                          const bool loose = vertex_face_start_[e.a] == vertex_face_start_[e.a + 1];
+                          second = loose ? e.b : vertex_set(e.a);
+                        } else {
+                          mark(edge_marks_.get(), e.a);
+                          mark(edge_marks_.get(), e.b);
+                          first = vertex_set(edges[e.a][0]);
+                          second = vertex_set(edges[e.b][0]);
+                        }
+                        event_first_set_[k] = first;
+                        face_sets_.unite(first, second);
+                      }
+                    });
+  // The faces around each marked vertex and on each marked edge marked. An
+  // event's elements lie on the group's two objects, so only their words
+  // are read.
+  const ObjectWords face_words(scene_.triangle_offset(object_a), scene_.triangle_offset(object_a + 1),
+                               scene_.triangle_offset(object_b), scene_.triangle_offset(object_b + 1));
+  const ObjectWords vertex_words(scene_.vertex_offset(object_a), scene_.vertex_offset(object_a + 1),
+                                 scene_.vertex_offset(object_b), scene_.vertex_offset(object_b + 1));
+  const ObjectWords edge_words(scene_.edge_offset(object_a), scene_.edge_offset(object_a + 1),
+                               scene_.edge_offset(object_b), scene_.edge_offset(object_b + 1));
+  const std::size_t vertex_tasks = (vertex_words.size() + kWordsPerTask - 1) / kWordsPerTask;
+  const std::size_t edge_tasks = (edge_words.size() + kWordsPerTask - 1) / kWordsPerTask;
+  tbb::parallel_for(std::size_t{0}, vertex_tasks + edge_tasks, [&](std::size_t t) {
+    if (t < vertex_tasks) {
+      take_marks(vertex_marks_.get(), vertex_words, t * kWordsPerTask,
+                 std::min(vertex_words.size(), (t + 1) * kWordsPerTask), [&](Index v) {
+                   for (Index k = vertex_face_start_[v]; k < vertex_face_start_[v + 1]; ++k)
+                     mark(face_marks_.get(), vertex_faces_[k]);
+                 });
+    } else {
+      t -= vertex_tasks;
+      take_marks(edge_marks_.get(), edge_words, t * kWordsPerTask, std::min(edge_words.size(), (t + 1) * kWordsPerTask),
+                 [&](Index id) {
+                   for (Index k = edge_face_start_[id]; k < edge_face_start_[id + 1]; ++k)
+                     mark(face_marks_.get(), edge_faces_[k]);
+                 });
     }
   });
-  // The marked faces, listed in ascending order and unmarked. An event's
-  // faces lie on the group's two objects, so only their words are read.
-  // Each listed face becomes a set of its own, and each of its vertices
-  // keeps one of the group's faces around it.
-  const std::size_t a_begin = scene_.triangle_offset(object_a) / 64;
-  const std::size_t a_end = (scene_.triangle_offset(object_a + 1) + 63) / 64;
-  const std::size_t b_begin = std::max<std::size_t>(a_end, scene_.triangle_offset(object_b) / 64);
-  const std::size_t b_end = std::max<std::size_t>(b_begin, (scene_.triangle_offset(object_b + 1) + 63) / 64);
-  const std::size_t words = (a_end - a_begin) + (b_end - b_begin);
-  auto word_at = [&](std::size_t w) { return w < a_end - a_begin ? a_begin + w : b_begin + (w - (a_end - a_begin)); };
-  const std::size_t tasks = (words + kWordsPerTask - 1) / kWordsPerTask;
+  // The marked faces, listed in ascending order and unmarked. Faces that
+  // share a vertex are one region: each listed face is joined with its
+  // vertices' sets (after the faces' in the union-find, so that every
+  // region's root is still its smallest face).
+  const std::size_t tasks = (face_words.size() + kWordsPerTask - 1) / kWordsPerTask;
   marked_before_.assign(tasks + 1, 0);
   tbb::parallel_for(std::size_t{0}, tasks, [&](std::size_t t) {
     std::size_t marked = 0;
-    for (std::size_t w = t * kWordsPerTask; w < std::min(words, (t + 1) * kWordsPerTask); ++w)
-      marked += static_cast<std::size_t>(__builtin_popcountll(face_marks_[word_at(w)].load(std::memory_order_relaxed)));
+    for (std::size_t w = t * kWordsPerTask; w < std::min(face_words.size(), (t + 1) * kWordsPerTask); ++w)
+      marked +=
+          static_cast<std::size_t>(__builtin_popcountll(face_marks_[face_words[w]].load(std::memory_order_relaxed)));
     marked_before_[t + 1] = marked;
   });
   std::partial_sum(marked_before_.begin(), marked_before_.end(), marked_before_.begin());
   touched_.resize(marked_before_[tasks]);  // within the room reserved for every face
   tbb::parallel_for(std::size_t{0}, tasks, [&](std::size_t t) {
     std::size_t at = marked_before_[t];
-    for (std::size_t w = t * kWordsPerTask; w < std::min(words, (t + 1) * kWordsPerTask); ++w) {
-      std::atomic<std::uint64_t>& word = face_marks_[word_at(w)];
-      for (std::uint64_t bits = word.load(std::memory_order_relaxed); bits != 0; bits &= bits - 1) {
-        const Index f = static_cast<Index>(64 * word_at(w) + static_cast<std::size_t>(__builtin_ctzll(bits)));
-        touched_[at++] = f;
-        face_sets_.reset(f);
-        for (Index v : triangles[f]) vertex_face_[v].store(f, std::memory_order_relaxed);
-      }
-      word.store(0, std::memory_order_relaxed);
-    }
+    take_marks(face_marks_.get(), face_words, t * kWordsPerTask, std::min(face_words.size(), (t + 1) * kWordsPerTask),
+               [&](Index f) {
+                 touched_[at++] = f;
+                 for (Index v : triangles[f]) face_sets_.unite(f, vertex_set(v));
+               });
   });
-  // The faces of one event are one region; so are faces that share a vertex.
-  // The faces around a vertex, or on an edge, share that vertex: of an
-  // event's faces, only one of each element's needs joining here.
-  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) face_sets_.unite(event_first_face_[k], event_second_face_[k]);
-  });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touched_.size(), kEventsPerTask),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t k = range.begin(); k < range.end(); ++k) {
-                        const Index f = touched_[k];
-                        for (Index v : triangles[f])
-                          face_sets_.unite(f, vertex_face_[v].load(std::memory_order_relaxed));
-                      }
-                    });
 }
 
-void RegionBuilder::group_events(const std::vector<Event>& events, const std::vector<char>& in_region,
-                                 std::map<GroupKey, std::vector<std::size_t>>& groups) const {
+void RegionBuilder::group_events(const std::vector<Event>& events, const std::vector<char>& in_region) {
   // Each block lists its runs of events of one group (the events of a group
   // come in long runs); the runs then take their places in their groups'
   // lists in event order, and are written there on all threads.
@@ -208,6 +224,7 @@ void RegionBuilder::group_events(const std::vector<Event>& events, const std::ve
     std::vector<std::size_t>* list;
     std::size_t at;
   };
+  for (auto& [key, list] : groups_) list.clear();  // the lists keep their room from frame to frame
   const std::size_t blocks = (events.size() + kEventsPerBlock - 1) / kEventsPerBlock;
   std::vector<std::vector<Run>> block_runs(blocks);
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
@@ -223,7 +240,7 @@ void RegionBuilder::group_events(const std::vector<Event>& events, const std::ve
   });
   for (std::vector<Run>& runs : block_runs) {
     for (Run& run : runs) {
-      run.list = &groups[run.key];
+      run.list = &groups_[run.key];
       run.at = run.list->size();
       run.list->resize(run.at + (run.end - run.begin));
     }
@@ -235,98 +252,104 @@ void RegionBuilder::group_events(const std::vector<Event>& events, const std::ve
   });
 }
 
-void RegionBuilder::add_regions(const std::vector<Event>& events, const std::vector<std::size_t>& group,
-                                const GroupKey& key, const std::vector<Vec3>& x, std::size_t frame,
-                                std::vector<RegionRecord>& regions, std::vector<std::size_t>& region_of,
-                                std::vector<std::size_t>& first_event) {
+void RegionBuilder::add_regions(const std::vector<std::size_t>& group, const GroupKey& key, const std::vector<Vec3>& x,
+                                std::size_t frame, std::vector<RegionRecord>& regions,
+                                std::vector<std::size_t>& region_of, std::vector<std::size_t>& first_event) {
   const EventKind kind = static_cast<EventKind>(std::get<0>(key));
   const std::size_t object_a = std::get<1>(key), object_b = std::get<2>(key);
   const tbb::blocked_range<std::size_t> all_events(0, group.size(), kEventsPerTask);
   const tbb::blocked_range<std::size_t> all_faces(0, touched_.size(), kEventsPerTask);
-  // Roots after every join: the same for any number of threads. Each set's
-  // first event is the smallest index of its events in the group.
+  // The root of each event's set, once every join is done: the same for any
+  // number of threads.
   event_root_.resize(group.size());
-  touched_root_.resize(touched_.size());
-  tbb::parallel_for(all_faces, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      touched_root_[k] = face_sets_.find(touched_[k]);
-      first_of_root_[touched_[k]].store(kNone, std::memory_order_relaxed);
-    }
-  });
   tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      event_root_[k] = face_sets_.find(event_first_face_[k]);
-      lower_to(first_of_root_[event_root_[k]], k);
-    }
+    for (std::size_t k = range.begin(); k < range.end(); ++k) event_root_[k] = face_sets_.find(event_first_set_[k]);
   });
-  // One region per set (every set holds an event's faces), in the order of
-  // its first event.
-  std::vector<std::pair<std::size_t, Index>> sets;  // first event, root
-  for (std::size_t k = 0; k < touched_.size(); ++k) {
-    if (touched_root_[k] == touched_[k])
-      sets.emplace_back(first_of_root_[touched_[k]].load(std::memory_order_relaxed), touched_[k]);
-  }
-  std::sort(sets.begin(), sets.end());
+  // One region per set (every set holds an event's faces), made when its
+  // first event comes, and each region's positions added up in event order
+  // (the centroid's sum is rounded as it always was), on this thread: the
+  // sum of a region is one chain of additions, and one region often holds
+  // most of the events. The sum of the region of the last event is kept at
+  // hand: the events of a region come in long runs.
   const std::size_t first_region = regions.size();
-  for (const auto& [first, root] : sets) {
-    region_of_root_[root] = regions.size();
-    RegionRecord region;
-    region.kind = kind;
-    region.object_a = object_a;
-    region.object_b = object_b;
-    region.frame = frame;
-    region.bounds = empty_bounds();
-    region.toi = std::numeric_limits<double>::infinity();
-    regions.push_back(std::move(region));
-    first_event.push_back(group[first]);
-  }
-  // Each event's region, position and time of impact, gathered on all
-  // threads; then each region's events added up in event order on this one,
-  // from the gathered 40 bytes an event instead of the event.
-  event_region_.resize(group.size());
-  event_place_.resize(group.size());
-  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      const Event& e = events[group[k]];
-      event_region_[k] = region_of_root_[event_root_[k]];
-      region_of[group[k]] = event_region_[k];
-      event_place_[k] = {e.position, static_cast<double>(e.frame) + e.toi_lo};
-    }
-  });
-  std::vector<RegionSums> sums(sets.size());
+  std::vector<Vec3> position_sums;
+  group_roots_.clear();
+  std::size_t last_region = kNone;
+  Vec3 sum{0, 0, 0};
   for (std::size_t k = 0; k < group.size(); ++k) {
-    RegionSums& sum = sums[event_region_[k] - first_region];
-    const EventPlace& place = event_place_[k];
-    ++sum.events;
-    sum.position_sum = sum.position_sum + place.position;
-    if (kind == EventKind::kCollision) {
-      grow(sum.bounds, place.position);
-      sum.toi = std::min(sum.toi, place.toi);
+    std::size_t& region = region_of_root_[event_root_[k]];
+    if (region == kNone) {
+      region = regions.size();
+      RegionRecord record;
+      record.kind = kind;
+      record.object_a = object_a;
+      record.object_b = object_b;
+      record.frame = frame;
+      regions.push_back(std::move(record));
+      first_event.push_back(group[k]);
+      position_sums.push_back({0, 0, 0});
+      group_roots_.push_back(event_root_[k]);
     }
+    if (region != last_region) {
+      if (last_region != kNone) position_sums[last_region - first_region] = sum;
+      last_region = region;
+      sum = position_sums[region - first_region];
+    }
+    sum = sum + event_place_[k].position;
   }
-  for (std::size_t r = 0; r < sums.size(); ++r) {
-    RegionRecord& region = regions[first_region + r];
-    region.events = sums[r].events;
-    region.centroid = sums[r].position_sum;
-    region.bounds = sums[r].bounds;
-    region.toi = sums[r].toi;
-  }
-  // Each face's region (its root's) and, for intersections,
-  // the box of its corners, on all threads; then the faces listed in
-  // ascending order on this one, so that each region's lists come sorted,
-  // and its box grown by theirs (the same box as corner by corner).
+  if (last_region != kNone) position_sums[last_region - first_region] = sum;
+  // On all threads: each event's region, and each region's count, box and
+  // earliest time over blocks of events (exact in any order); each face's
+  // region (its root's) and, for intersections, the box of its corners.
+  const bool collisions = kind == EventKind::kCollision;
   const bool face_boxes = kind == EventKind::kIntersection;
+  const std::size_t region_count = position_sums.size();
+  const std::size_t blocks = (group.size() + kEventsPerTask - 1) / kEventsPerTask;
+  block_sums_.assign(blocks * region_count, RegionSums{});
   touched_region_.resize(touched_.size());
   touched_box_.resize(face_boxes ? touched_.size() : 0);
-  tbb::parallel_for(all_faces, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      touched_region_[k] = region_of_root_[touched_root_[k]];
-      if (!face_boxes) continue;
-      Bounds box = empty_bounds();
-      for (Index v : scene_.triangles()[touched_[k]]) grow(box, x[v]);
-      touched_box_[k] = box;
+  tbb::parallel_invoke(
+      [&] {
+        tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
+          RegionSums* sums = &block_sums_[block * region_count];
+          for (std::size_t k = block * kEventsPerTask; k < std::min(group.size(), (block + 1) * kEventsPerTask); ++k) {
+            const std::size_t region = region_of_root_[event_root_[k]];
+            region_of[group[k]] = region;
+            RegionSums& sum = sums[region - first_region];
+            ++sum.events;
+            if (!collisions) continue;
+            grow(sum.bounds, event_place_[k].position);
+            sum.toi = std::min(sum.toi, event_place_[k].toi);
+          }
+        });
+      },
+      [&] {
+        tbb::parallel_for(all_faces, [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t k = range.begin(); k < range.end(); ++k) {
+            touched_region_[k] = region_of_root_[face_sets_.find(touched_[k])];
+            if (!face_boxes) continue;
+            Bounds box = empty_bounds();
+            for (Index v : scene_.triangles()[touched_[k]]) grow(box, x[v]);
+            touched_box_[k] = box;
+          }
+        });
+      });
+  for (std::size_t r = 0; r < region_count; ++r) {
+    RegionRecord& region = regions[first_region + r];
+    region.centroid = position_sums[r];
+    region.bounds = empty_bounds();
+    region.toi = std::numeric_limits<double>::infinity();
+    for (std::size_t block = 0; block < blocks; ++block) {
+      const RegionSums& sums = block_sums_[block * region_count + r];
+      region.events += sums.events;
+      grow(region.bounds, sums.bounds);
+      region.toi = std::min(region.toi, sums.toi);
     }
-  });
+  }
+  for (const Index root : group_roots_) region_of_root_[root] = kNone;
+  // The faces listed in ascending order on this thread, so that each
+  // region's lists come sorted, and its box grown by theirs (the same box
+  // as corner by corner).
   const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
   const Index end_a = scene_.triangle_offset(object_a + 1);
   for (std::size_t k = 0; k < touched_.size(); ++k) {
@@ -337,24 +360,26 @@ void RegionBuilder::add_regions(const std::vector<Event>& events, const std::vec
     } else {
       region.faces_b.push_back(f - base_b);
     }
-    if (face_boxes) {
-      grow(region.bounds, touched_box_[k].lo);
-      grow(region.bounds, touched_box_[k].hi);
-    }
+    if (face_boxes) grow(region.bounds, touched_box_[k]);
   }
 }
 
 void RegionBuilder::build(const std::vector<Event>& events, const std::vector<char>& in_region,
                           const std::vector<Vec3>& x, std::size_t frame, std::vector<RegionRecord>& regions,
                           std::vector<std::size_t>& region_of) {
-  region_of.assign(events.size(), kNone);
-  std::map<GroupKey, std::vector<std::size_t>> groups;
-  group_events(events, in_region, groups);
+  const tbb::blocked_range<std::size_t> all_events(0, events.size(), kEventsPerTask);
+  region_of.resize(events.size());
+  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
+    std::fill(region_of.begin() + static_cast<std::ptrdiff_t>(range.begin()),
+              region_of.begin() + static_cast<std::ptrdiff_t>(range.end()), kNone);
+  });
+  group_events(events, in_region);
   const std::size_t first_region = regions.size();
   std::vector<std::size_t> first_event;  // of each new region
-  for (const auto& [key, group] : groups) {
+  for (const auto& [key, group] : groups_) {
+    if (group.empty()) continue;
     join_faces(events, group, std::get<1>(key), std::get<2>(key));
-    add_regions(events, group, key, x, frame, regions, region_of, first_event);
+    add_regions(group, key, x, frame, regions, region_of, first_event);
   }
   // Order the frame's regions by their first event, so that ids follow the event order.
   const std::size_t count = regions.size() - first_region;
@@ -374,8 +399,10 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
     region.centroid = (1.0 / static_cast<double>(region.events)) * region.centroid;
     regions[first_region + k] = std::move(region);
   }
-  for (std::size_t& r : region_of)
-    if (r != kNone) r = new_index[r - first_region];
+  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i)
+      if (region_of[i] != kNone) region_of[i] = new_index[region_of[i] - first_region];
+  });
 }
 
 TrackBuilder::TrackBuilder(const Scene& scene) : scene_(scene) {}

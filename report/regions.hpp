@@ -16,6 +16,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <tuple>
@@ -37,13 +38,16 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
 /// each group.
 ///
 /// The events are grouped by pair and kind on all threads (in blocks, whose
-/// runs of one group then take their places in event order). The faces of
-/// each group are marked and joined on all threads at once (a union-find
-/// whose roots are the smallest face of each region, so that the regions do
-/// not depend on the threads); each set's first event is found on all
-/// threads too. Each region's events are then added up in event order and
-/// its faces listed in face order on one thread, so that the result is the
-/// same for any number of threads.
+/// runs of one group then take their places in event order). Each group's
+/// events are read once, on all threads: their elements marked and joined
+/// in a union-find over faces and vertices (whose roots are the smallest face
+/// of each region, so that the regions do not depend on the threads). The
+/// faces around the marked vertices and on the marked edges are marked in
+/// turn, and the marked faces listed and joined with their vertices. Each
+/// region is made when its first event comes and its events' positions
+/// added up in event order, on one thread; counts, boxes and times, exact in
+/// any order, on all threads; each region's faces are listed in face order
+/// on one thread. The result is the same for any number of threads.
 class RegionBuilder {
  public:
   explicit RegionBuilder(const Scene& scene);
@@ -58,40 +62,48 @@ class RegionBuilder {
  private:
   using GroupKey = std::tuple<int, std::size_t, std::size_t>;  // kind, object a <= object b
 
-  /// Calls visit(f) for every face of the event (see the file comment).
-  template <class Visit>
-  void for_each_event_face(const Event& event, Visit visit) const;
-  Index first_face(const Event& event) const;
-  Index second_face(const Event& event) const;
   /// Lists the faces of the group's events in touched_ (ascending) and joins
-  /// those that an event names together or that share a vertex.
+  /// those that an event names together or that share a vertex; keeps the
+  /// set and the place of each event.
   void join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group, std::size_t object_a,
                   std::size_t object_b);
-  /// The events of each group (pair and kind) with in_region set, in event order.
-  void group_events(const std::vector<Event>& events, const std::vector<char>& in_region,
-                    std::map<GroupKey, std::vector<std::size_t>>& groups) const;
+  /// Lists in groups_ the events of each group (pair and kind) with in_region
+  /// set, in event order.
+  void group_events(const std::vector<Event>& events, const std::vector<char>& in_region);
   /// Adds the group's regions to `regions` in the order of their first event
-  /// and sets region_of for its events.
-  void add_regions(const std::vector<Event>& events, const std::vector<std::size_t>& group, const GroupKey& key,
-                   const std::vector<Vec3>& x, std::size_t frame, std::vector<RegionRecord>& regions,
-                   std::vector<std::size_t>& region_of, std::vector<std::size_t>& first_event);
+  /// and sets region_of for its events (after join_faces on the group).
+  void add_regions(const std::vector<std::size_t>& group, const GroupKey& key, const std::vector<Vec3>& x,
+                   std::size_t frame, std::vector<RegionRecord>& regions, std::vector<std::size_t>& region_of,
+                   std::vector<std::size_t>& first_event);
 
   const Scene& scene_;
   std::vector<Index> vertex_face_start_, vertex_faces_;  // CSR: faces around each vertex
   std::vector<Index> edge_face_start_, edge_faces_;      // CSR: faces on each edge
-  // Scratch, scene-sized, left as it was found after each group.
-  std::unique_ptr<std::atomic<std::uint64_t>[]> face_marks_;  // a bit per face: the group's faces
-  std::unique_ptr<std::atomic<Index>[]> vertex_face_;         // a face of the group around each vertex
-  ConcurrentUnionFind<Index> face_sets_;
-  std::unique_ptr<std::atomic<std::size_t>[]> first_of_root_;  // by face: a set's first event in the group
-  std::vector<std::size_t> region_of_root_;                    // by face: set at the group's roots
-  std::vector<std::size_t> marked_before_;                     // faces marked in the words before each block
-  std::vector<Index> touched_, touched_root_;                  // the group's faces, ascending, and their roots
-  std::vector<std::size_t> touched_region_;                    // the region of each of the group's faces
-  std::vector<Bounds> touched_box_;                            // intersections: the box of each of the group's faces
-  std::vector<Index> event_first_face_, event_second_face_;  // a face of each element of the group's events
+  /// The union-find's set of vertex v (after the faces').
+  Index vertex_set(Index v) const { return static_cast<Index>(scene_.triangle_count()) + v; }
+
+  // Scratch, scene-sized, left as it was found after each group: no face
+  // marked, no root with a region (the union-find is cleared before each).
+  std::unique_ptr<std::atomic<std::uint64_t>[]> face_marks_;    // a bit per face: the group's faces
+  std::unique_ptr<std::atomic<std::uint64_t>[]> vertex_marks_;  // a bit per vertex: the events' vertices
+  std::unique_ptr<std::atomic<std::uint64_t>[]> edge_marks_;    // a bit per edge: the events' edges
+  ConcurrentUnionFind<Index> face_sets_;                        // faces, then vertices
+  std::vector<std::size_t> region_of_root_;                     // by face: set at the group's roots
+  std::map<GroupKey, std::vector<std::size_t>> groups_;         // the frame's events of each group
+  std::vector<std::size_t> marked_before_;                      // faces marked in the words before each block
+  std::vector<Index> touched_;                                  // the group's faces, ascending
+  std::vector<std::size_t> touched_region_;                     // the region of each of the group's faces
+  std::vector<Bounds> touched_box_;                             // intersections: the box of each of the group's faces
+  std::vector<Index> event_first_set_;                          // a set of an element of each of the group's events
   std::vector<Index> event_root_;                             // the root of each of the group's events
-  std::vector<std::size_t> event_region_;                     // the region of each of the group's events
+  std::vector<Index> group_roots_;                            // the roots of the group's regions
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  struct RegionSums {  // a region's count, box and earliest time over a block of its events
+    std::size_t events = 0;
+    Bounds bounds{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
+    double toi = kInf;
+  };
+  std::vector<RegionSums> block_sums_;  // by block of the group's events, then region
   struct EventPlace {
     Vec3 position;
     double toi;  // collisions: frame + toi_lo
