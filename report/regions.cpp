@@ -48,16 +48,19 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
   return {std::min(a, b), std::max(a, b)};
 }
 
-RegionBuilder::RegionBuilder(const Scene& scene)
-    : scene_(scene),
-      face_marks_(new std::atomic<std::uint64_t>[(scene.triangle_count() + 63) / 64]()),
-      vertex_marks_(new std::atomic<std::uint64_t>[(scene.vertex_count() + 63) / 64]()),
-      edge_marks_(new std::atomic<std::uint64_t>[(scene.edges().size() + 63) / 64]()),
-      face_sets_(scene.triangle_count() + scene.vertex_count()),
-      region_of_root_(scene.triangle_count(), kNone) {
+RegionBuilder::Lane::Lane(const Scene& scene, std::size_t index)
+    : face_marks(new std::atomic<std::uint64_t>[(scene.triangle_count() + 63) / 64]()),
+      vertex_marks(new std::atomic<std::uint64_t>[(scene.vertex_count() + 63) / 64]()),
+      edge_marks(new std::atomic<std::uint64_t>[(scene.edges().size() + 63) / 64]()),
+      face_sets(scene.triangle_count() + scene.vertex_count()),
+      region_of_root(scene.triangle_count(), kNone),
+      tag(index << kLaneShift) {
+  touched.reserve(scene.triangle_count());  // listing the marked faces then allocates nothing
+}
+
+RegionBuilder::RegionBuilder(const Scene& scene) : scene_(scene) {
   if (scene.triangle_count() + scene.vertex_count() > std::numeric_limits<Index>::max())
     throw std::length_error("a scene's faces and vertices together outnumber the region builder's ids");
-  touched_.reserve(scene.triangle_count());  // listing the marked faces then allocates nothing
   const auto& triangles = scene.triangles();
   vertex_face_start_.assign(scene.vertex_count() + 1, 0);
   for (const Triangle& t : triangles)
@@ -123,11 +126,11 @@ void take_marks(std::atomic<std::uint64_t>* bits, const ObjectWords& words, std:
 
 }  // namespace
 
-void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group,
-                               std::size_t object_a, std::size_t object_b) {
+void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, const std::vector<std::size_t>& group,
+                               std::size_t object_a, std::size_t object_b) const {
   const auto& triangles = scene_.triangles();
   const auto& edges = scene_.edges();
-  face_sets_.clear();
+  lane.face_sets.clear();
   // One pass over the group's events, the only one that reads them: the
   // elements of each event marked (a face, a vertex for the faces around
   // it, an edge for the faces on it), the event's elements joined through
@@ -135,31 +138,31 @@ void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vect
   // holds them; an edge's faces hold its first end), and what the regions
   // need of the event kept, 40 bytes instead of the event. A vertex on no
   // face (a loose one) joins nothing.
-  event_first_set_.resize(group.size());
-  event_place_.resize(group.size());
+  lane.event_first_set.resize(group.size());
+  lane.event_place.resize(group.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group.size(), kEventsPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t k = range.begin(); k < range.end(); ++k) {
                         const Event& e = events[group[k]];
-                        event_place_[k] = {e.position, static_cast<double>(e.frame) + e.toi_lo};
+                        lane.event_place[k] = {e.position, static_cast<double>(e.frame) + e.toi_lo};
                         Index first = e.a, second = e.b;
                         if (e.kind == EventKind::kIntersection) {
-                          mark(face_marks_.get(), e.a);
-                          mark(face_marks_.get(), e.b);
+                          mark(lane.face_marks.get(), e.a);
+                          mark(lane.face_marks.get(), e.b);
                         } else if (e.type == ContactType::kVertexFace) {
-                          mark(face_marks_.get(), e.b);
-                          mark(vertex_marks_.get(), e.a);
+                          mark(lane.face_marks.get(), e.b);
+                          mark(lane.vertex_marks.get(), e.a);
                           first = e.b;
                           const bool loose = vertex_face_start_[e.a] == vertex_face_start_[e.a + 1];
                           second = loose ? e.b : vertex_set(e.a);
                         } else {
-                          mark(edge_marks_.get(), e.a);
-                          mark(edge_marks_.get(), e.b);
+                          mark(lane.edge_marks.get(), e.a);
+                          mark(lane.edge_marks.get(), e.b);
                           first = vertex_set(edges[e.a][0]);
                           second = vertex_set(edges[e.b][0]);
                         }
-                        event_first_set_[k] = first;
-                        face_sets_.unite(first, second);
+                        lane.event_first_set[k] = first;
+                        lane.face_sets.unite(first, second);
                       }
                     });
   // The faces around each marked vertex and on each marked edge marked. An
@@ -175,17 +178,17 @@ void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vect
   const std::size_t edge_tasks = (edge_words.size() + kWordsPerTask - 1) / kWordsPerTask;
   tbb::parallel_for(std::size_t{0}, vertex_tasks + edge_tasks, [&](std::size_t t) {
     if (t < vertex_tasks) {
-      take_marks(vertex_marks_.get(), vertex_words, t * kWordsPerTask,
+      take_marks(lane.vertex_marks.get(), vertex_words, t * kWordsPerTask,
                  std::min(vertex_words.size(), (t + 1) * kWordsPerTask), [&](Index v) {
                    for (Index k = vertex_face_start_[v]; k < vertex_face_start_[v + 1]; ++k)
-                     mark(face_marks_.get(), vertex_faces_[k]);
+                     mark(lane.face_marks.get(), vertex_faces_[k]);
                  });
     } else {
       t -= vertex_tasks;
-      take_marks(edge_marks_.get(), edge_words, t * kWordsPerTask, std::min(edge_words.size(), (t + 1) * kWordsPerTask),
-                 [&](Index id) {
+      take_marks(lane.edge_marks.get(), edge_words, t * kWordsPerTask,
+                 std::min(edge_words.size(), (t + 1) * kWordsPerTask), [&](Index id) {
                    for (Index k = edge_face_start_[id]; k < edge_face_start_[id + 1]; ++k)
-                     mark(face_marks_.get(), edge_faces_[k]);
+                     mark(lane.face_marks.get(), edge_faces_[k]);
                  });
     }
   });
@@ -194,22 +197,22 @@ void RegionBuilder::join_faces(const std::vector<Event>& events, const std::vect
   // vertices' sets (after the faces' in the union-find, so that every
   // region's root is still its smallest face).
   const std::size_t tasks = (face_words.size() + kWordsPerTask - 1) / kWordsPerTask;
-  marked_before_.assign(tasks + 1, 0);
+  lane.marked_before.assign(tasks + 1, 0);
   tbb::parallel_for(std::size_t{0}, tasks, [&](std::size_t t) {
     std::size_t marked = 0;
     for (std::size_t w = t * kWordsPerTask; w < std::min(face_words.size(), (t + 1) * kWordsPerTask); ++w)
-      marked +=
-          static_cast<std::size_t>(__builtin_popcountll(face_marks_[face_words[w]].load(std::memory_order_relaxed)));
-    marked_before_[t + 1] = marked;
+      marked += static_cast<std::size_t>(
+          __builtin_popcountll(lane.face_marks[face_words[w]].load(std::memory_order_relaxed)));
+    lane.marked_before[t + 1] = marked;
   });
-  std::partial_sum(marked_before_.begin(), marked_before_.end(), marked_before_.begin());
-  touched_.resize(marked_before_[tasks]);  // within the room reserved for every face
+  std::partial_sum(lane.marked_before.begin(), lane.marked_before.end(), lane.marked_before.begin());
+  lane.touched.resize(lane.marked_before[tasks]);  // within the room reserved for every face
   tbb::parallel_for(std::size_t{0}, tasks, [&](std::size_t t) {
-    std::size_t at = marked_before_[t];
-    take_marks(face_marks_.get(), face_words, t * kWordsPerTask, std::min(face_words.size(), (t + 1) * kWordsPerTask),
-               [&](Index f) {
-                 touched_[at++] = f;
-                 for (Index v : triangles[f]) face_sets_.unite(f, vertex_set(v));
+    std::size_t at = lane.marked_before[t];
+    take_marks(lane.face_marks.get(), face_words, t * kWordsPerTask,
+               std::min(face_words.size(), (t + 1) * kWordsPerTask), [&](Index f) {
+                 lane.touched[at++] = f;
+                 for (Index v : triangles[f]) lane.face_sets.unite(f, vertex_set(v));
                });
   });
 }
@@ -252,18 +255,19 @@ void RegionBuilder::group_events(const std::vector<Event>& events, const std::ve
   });
 }
 
-void RegionBuilder::add_regions(const std::vector<std::size_t>& group, const GroupKey& key, const std::vector<Vec3>& x,
-                                std::size_t frame, std::vector<RegionRecord>& regions,
-                                std::vector<std::size_t>& region_of, std::vector<std::size_t>& first_event) {
+void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& group, const GroupKey& key,
+                                const std::vector<Vec3>& x, std::size_t frame,
+                                std::vector<std::size_t>& region_of) const {
   const EventKind kind = static_cast<EventKind>(std::get<0>(key));
   const std::size_t object_a = std::get<1>(key), object_b = std::get<2>(key);
   const tbb::blocked_range<std::size_t> all_events(0, group.size(), kEventsPerTask);
-  const tbb::blocked_range<std::size_t> all_faces(0, touched_.size(), kEventsPerTask);
+  const tbb::blocked_range<std::size_t> all_faces(0, lane.touched.size(), kEventsPerTask);
   // The root of each event's set, once every join is done: the same for any
   // number of threads.
-  event_root_.resize(group.size());
+  lane.event_root.resize(group.size());
   tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) event_root_[k] = face_sets_.find(event_first_set_[k]);
+    for (std::size_t k = range.begin(); k < range.end(); ++k)
+      lane.event_root[k] = lane.face_sets.find(lane.event_first_set[k]);
   });
   // One region per set (every set holds an event's faces), made when its
   // first event comes, and each region's positions added up in event order
@@ -271,31 +275,31 @@ void RegionBuilder::add_regions(const std::vector<std::size_t>& group, const Gro
   // sum of a region is one chain of additions, and one region often holds
   // most of the events. The sum of the region of the last event is kept at
   // hand: the events of a region come in long runs.
-  const std::size_t first_region = regions.size();
+  const std::size_t first_region = lane.regions.size();
   std::vector<Vec3> position_sums;
-  group_roots_.clear();
+  lane.group_roots.clear();
   std::size_t last_region = kNone;
   Vec3 sum{0, 0, 0};
   for (std::size_t k = 0; k < group.size(); ++k) {
-    std::size_t& region = region_of_root_[event_root_[k]];
+    std::size_t& region = lane.region_of_root[lane.event_root[k]];
     if (region == kNone) {
-      region = regions.size();
+      region = lane.regions.size();
       RegionRecord record;
       record.kind = kind;
       record.object_a = object_a;
       record.object_b = object_b;
       record.frame = frame;
-      regions.push_back(std::move(record));
-      first_event.push_back(group[k]);
+      lane.regions.push_back(std::move(record));
+      lane.first_event.push_back(group[k]);
       position_sums.push_back({0, 0, 0});
-      group_roots_.push_back(event_root_[k]);
+      lane.group_roots.push_back(lane.event_root[k]);
     }
     if (region != last_region) {
       if (last_region != kNone) position_sums[last_region - first_region] = sum;
       last_region = region;
       sum = position_sums[region - first_region];
     }
-    sum = sum + event_place_[k].position;
+    sum = sum + lane.event_place[k].position;
   }
   if (last_region != kNone) position_sums[last_region - first_region] = sum;
   // On all threads: each event's region, and each region's count, box and
@@ -305,62 +309,62 @@ void RegionBuilder::add_regions(const std::vector<std::size_t>& group, const Gro
   const bool face_boxes = kind == EventKind::kIntersection;
   const std::size_t region_count = position_sums.size();
   const std::size_t blocks = (group.size() + kEventsPerTask - 1) / kEventsPerTask;
-  block_sums_.assign(blocks * region_count, RegionSums{});
-  touched_region_.resize(touched_.size());
-  touched_box_.resize(face_boxes ? touched_.size() : 0);
+  lane.block_sums.assign(blocks * region_count, RegionSums{});
+  lane.touched_region.resize(lane.touched.size());
+  lane.touched_box.resize(face_boxes ? lane.touched.size() : 0);
   tbb::parallel_invoke(
       [&] {
         tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
-          RegionSums* sums = &block_sums_[block * region_count];
+          RegionSums* sums = &lane.block_sums[block * region_count];
           for (std::size_t k = block * kEventsPerTask; k < std::min(group.size(), (block + 1) * kEventsPerTask); ++k) {
-            const std::size_t region = region_of_root_[event_root_[k]];
-            region_of[group[k]] = region;
+            const std::size_t region = lane.region_of_root[lane.event_root[k]];
+            region_of[group[k]] = lane.tag | region;
             RegionSums& sum = sums[region - first_region];
             ++sum.events;
             if (!collisions) continue;
-            grow(sum.bounds, event_place_[k].position);
-            sum.toi = std::min(sum.toi, event_place_[k].toi);
+            grow(sum.bounds, lane.event_place[k].position);
+            sum.toi = std::min(sum.toi, lane.event_place[k].toi);
           }
         });
       },
       [&] {
         tbb::parallel_for(all_faces, [&](const tbb::blocked_range<std::size_t>& range) {
           for (std::size_t k = range.begin(); k < range.end(); ++k) {
-            touched_region_[k] = region_of_root_[face_sets_.find(touched_[k])];
+            lane.touched_region[k] = lane.region_of_root[lane.face_sets.find(lane.touched[k])];
             if (!face_boxes) continue;
             Bounds box = empty_bounds();
-            for (Index v : scene_.triangles()[touched_[k]]) grow(box, x[v]);
-            touched_box_[k] = box;
+            for (Index v : scene_.triangles()[lane.touched[k]]) grow(box, x[v]);
+            lane.touched_box[k] = box;
           }
         });
       });
   for (std::size_t r = 0; r < region_count; ++r) {
-    RegionRecord& region = regions[first_region + r];
+    RegionRecord& region = lane.regions[first_region + r];
     region.centroid = position_sums[r];
     region.bounds = empty_bounds();
     region.toi = std::numeric_limits<double>::infinity();
     for (std::size_t block = 0; block < blocks; ++block) {
-      const RegionSums& sums = block_sums_[block * region_count + r];
+      const RegionSums& sums = lane.block_sums[block * region_count + r];
       region.events += sums.events;
       grow(region.bounds, sums.bounds);
       region.toi = std::min(region.toi, sums.toi);
     }
   }
-  for (const Index root : group_roots_) region_of_root_[root] = kNone;
+  for (const Index root : lane.group_roots) lane.region_of_root[root] = kNone;
   // The faces listed in ascending order on this thread, so that each
   // region's lists come sorted, and its box grown by theirs (the same box
   // as corner by corner).
   const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
   const Index end_a = scene_.triangle_offset(object_a + 1);
-  for (std::size_t k = 0; k < touched_.size(); ++k) {
-    RegionRecord& region = regions[touched_region_[k]];
-    const Index f = touched_[k];
+  for (std::size_t k = 0; k < lane.touched.size(); ++k) {
+    RegionRecord& region = lane.regions[lane.touched_region[k]];
+    const Index f = lane.touched[k];
     if (f >= base_a && f < end_a) {
       region.faces_a.push_back(f - base_a);
     } else {
       region.faces_b.push_back(f - base_b);
     }
-    if (face_boxes) grow(region.bounds, touched_box_[k]);
+    if (face_boxes) grow(region.bounds, lane.touched_box[k]);
   }
 }
 
@@ -374,14 +378,45 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
               region_of.begin() + static_cast<std::ptrdiff_t>(range.end()), kNone);
   });
   group_events(events, in_region);
-  const std::size_t first_region = regions.size();
-  std::vector<std::size_t> first_event;  // of each new region
-  for (const auto& [key, group] : groups_) {
-    if (group.empty()) continue;
-    join_faces(events, group, std::get<1>(key), std::get<2>(key));
-    add_regions(group, key, x, frame, regions, region_of, first_event);
+  // The groups are built at once, on lanes of their own (the passes over one
+  // group keep few threads busy): largest first, each to the lane with the
+  // fewest events so far.
+  std::vector<const std::pair<const GroupKey, std::vector<std::size_t>>*> groups;
+  for (const auto& entry : groups_)
+    if (!entry.second.empty()) groups.push_back(&entry);
+  std::stable_sort(groups.begin(), groups.end(),
+                   [](const auto* p, const auto* q) { return p->second.size() > q->second.size(); });
+  const std::size_t lane_count = std::min(kLanes, groups.size());
+  while (lanes_.size() < lane_count) lanes_.push_back(std::make_unique<Lane>(scene_, lanes_.size()));
+  std::vector<std::vector<const std::pair<const GroupKey, std::vector<std::size_t>>*>> lane_groups(lane_count);
+  std::vector<std::size_t> lane_events(lane_count, 0);
+  for (const auto* group : groups) {
+    const std::size_t l =
+        static_cast<std::size_t>(std::min_element(lane_events.begin(), lane_events.end()) - lane_events.begin());
+    lane_groups[l].push_back(group);
+    lane_events[l] += group->second.size();
   }
-  // Order the frame's regions by their first event, so that ids follow the event order.
+  tbb::parallel_for(std::size_t{0}, lane_count, [&](std::size_t l) {
+    Lane& lane = *lanes_[l];
+    lane.regions.clear();
+    lane.first_event.clear();
+    for (const auto* group : lane_groups[l]) {
+      const auto& [key, events_of_group] = *group;
+      join_faces(lane, events, events_of_group, std::get<1>(key), std::get<2>(key));
+      add_regions(lane, events_of_group, key, x, frame, region_of);
+    }
+  });
+  // The lanes' regions in the order of their first event, so that ids follow
+  // the event order.
+  const std::size_t first_region = regions.size();
+  std::vector<std::size_t> lane_first(lane_count + 1, 0);
+  std::vector<std::size_t> first_event;  // of each new region
+  for (std::size_t l = 0; l < lane_count; ++l) {
+    Lane& lane = *lanes_[l];
+    lane_first[l + 1] = lane_first[l] + lane.regions.size();
+    first_event.insert(first_event.end(), lane.first_event.begin(), lane.first_event.end());
+    for (RegionRecord& region : lane.regions) regions.push_back(std::move(region));
+  }
   const std::size_t count = regions.size() - first_region;
   std::vector<std::size_t> order(count);
   std::iota(order.begin(), order.end(), 0);
@@ -400,8 +435,11 @@ void RegionBuilder::build(const std::vector<Event>& events, const std::vector<ch
     regions[first_region + k] = std::move(region);
   }
   tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i < range.end(); ++i)
-      if (region_of[i] != kNone) region_of[i] = new_index[region_of[i] - first_region];
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      if (region_of[i] == kNone) continue;
+      const std::size_t lane = region_of[i] >> kLaneShift, local = region_of[i] & ((std::size_t{1} << kLaneShift) - 1);
+      region_of[i] = new_index[lane_first[lane] + local];
+    }
   });
 }
 

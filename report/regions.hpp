@@ -62,19 +62,20 @@ class RegionBuilder {
  private:
   using GroupKey = std::tuple<int, std::size_t, std::size_t>;  // kind, object a <= object b
 
-  /// Lists the faces of the group's events in touched_ (ascending) and joins
-  /// those that an event names together or that share a vertex; keeps the
-  /// set and the place of each event.
-  void join_faces(const std::vector<Event>& events, const std::vector<std::size_t>& group, std::size_t object_a,
-                  std::size_t object_b);
+  struct Lane;
+  /// Lists the faces of the group's events in lane.touched (ascending) and
+  /// joins those that an event names together or that share a vertex; keeps
+  /// the set and the place of each event.
+  void join_faces(Lane& lane, const std::vector<Event>& events, const std::vector<std::size_t>& group,
+                  std::size_t object_a, std::size_t object_b) const;
   /// Lists in groups_ the events of each group (pair and kind) with in_region
   /// set, in event order.
   void group_events(const std::vector<Event>& events, const std::vector<char>& in_region);
-  /// Adds the group's regions to `regions` in the order of their first event
-  /// and sets region_of for its events (after join_faces on the group).
-  void add_regions(const std::vector<std::size_t>& group, const GroupKey& key, const std::vector<Vec3>& x,
-                   std::size_t frame, std::vector<RegionRecord>& regions, std::vector<std::size_t>& region_of,
-                   std::vector<std::size_t>& first_event);
+  /// Adds the group's regions to lane.regions in the order of their first
+  /// event and sets region_of for its events (the lane's index of their
+  /// region, tagged with the lane), after join_faces on the group.
+  void add_regions(Lane& lane, const std::vector<std::size_t>& group, const GroupKey& key, const std::vector<Vec3>& x,
+                   std::size_t frame, std::vector<std::size_t>& region_of) const;
 
   const Scene& scene_;
   std::vector<Index> vertex_face_start_, vertex_faces_;  // CSR: faces around each vertex
@@ -82,33 +83,46 @@ class RegionBuilder {
   /// The union-find's set of vertex v (after the faces').
   Index vertex_set(Index v) const { return static_cast<Index>(scene_.triangle_count()) + v; }
 
-  // Scratch, scene-sized, left as it was found after each group: no face
-  // marked, no root with a region (the union-find is cleared before each).
-  std::unique_ptr<std::atomic<std::uint64_t>[]> face_marks_;    // a bit per face: the group's faces
-  std::unique_ptr<std::atomic<std::uint64_t>[]> vertex_marks_;  // a bit per vertex: the events' vertices
-  std::unique_ptr<std::atomic<std::uint64_t>[]> edge_marks_;    // a bit per edge: the events' edges
-  ConcurrentUnionFind<Index> face_sets_;                        // faces, then vertices
-  std::vector<std::size_t> region_of_root_;                     // by face: set at the group's roots
-  std::map<GroupKey, std::vector<std::size_t>> groups_;         // the frame's events of each group
-  std::vector<std::size_t> marked_before_;                      // faces marked in the words before each block
-  std::vector<Index> touched_;                                  // the group's faces, ascending
-  std::vector<std::size_t> touched_region_;                     // the region of each of the group's faces
-  std::vector<Bounds> touched_box_;                             // intersections: the box of each of the group's faces
-  std::vector<Index> event_first_set_;                          // a set of an element of each of the group's events
-  std::vector<Index> event_root_;                             // the root of each of the group's events
-  std::vector<Index> group_roots_;                            // the roots of the group's regions
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   struct RegionSums {  // a region's count, box and earliest time over a block of its events
     std::size_t events = 0;
     Bounds bounds{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
     double toi = kInf;
   };
-  std::vector<RegionSums> block_sums_;  // by block of the group's events, then region
   struct EventPlace {
     Vec3 position;
     double toi;  // collisions: frame + toi_lo
   };
-  std::vector<EventPlace> event_place_;  // of each of the group's events
+  // Groups built at once, at most; a lane's regions are named in region_of,
+  // until the frame's are ordered, by the lane above kLaneShift.
+  static constexpr std::size_t kLanes = 2;
+  static constexpr unsigned kLaneShift = 48;
+  /// What one group is built in. Scratch, scene-sized, left as it was found
+  /// after each group: no face, vertex or edge marked, no root with a region
+  /// (the union-find is cleared before each group).
+  struct Lane {
+    Lane(const Scene& scene, std::size_t index);
+    std::unique_ptr<std::atomic<std::uint64_t>[]> face_marks;    // a bit per face: the group's faces
+    std::unique_ptr<std::atomic<std::uint64_t>[]> vertex_marks;  // a bit per vertex: the events' vertices
+    std::unique_ptr<std::atomic<std::uint64_t>[]> edge_marks;    // a bit per edge: the events' edges
+    ConcurrentUnionFind<Index> face_sets;                        // faces, then vertices
+    std::vector<std::size_t> region_of_root;                     // by face: set at the group's roots
+    std::vector<std::size_t> marked_before;                      // faces marked in the words before each block
+    std::vector<Index> touched;                                  // the group's faces, ascending
+    std::vector<std::size_t> touched_region;                     // the region of each of the group's faces
+    std::vector<Bounds> touched_box;                             // intersections: the box of each of the group's faces
+    std::vector<Index> event_first_set;                          // a set of an element of each of the group's events
+    std::vector<EventPlace> event_place;                         // of each of the group's events
+    std::vector<Index> event_root;                               // the root of each of the group's events
+    std::vector<Index> group_roots;                              // the roots of the group's regions
+    std::vector<RegionSums> block_sums;                          // by block of the group's events, then region
+    // The frame's regions built on this lane so far, and the first event of each.
+    std::vector<RegionRecord> regions;
+    std::vector<std::size_t> first_event;
+    std::size_t tag;  // the lane in region_of
+  };
+  std::map<GroupKey, std::vector<std::size_t>> groups_;  // the frame's events of each group
+  std::vector<std::unique_ptr<Lane>> lanes_;             // made when a frame first needs them
 };
 
 /// Gives regions their track ids frame after frame and says when tracks end.
