@@ -139,7 +139,7 @@ void finish_events(std::vector<Event>& events, std::size_t collisions, FrameSumm
   summary.vertex_face += pass.vertex_face;
   summary.edge_edge += pass.edge_edge;
   summary.uncertain += pass.uncertain;
-  if (!pass.ordered) std::sort(events.begin(), events.end(), event_order);  // on this thread: the scan's own
+  if (!pass.ordered) std::sort(events.begin(), events.end(), event_order);
 }
 
 }  // namespace
@@ -166,7 +166,12 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
   try {
     // After the buffers: on the way out it waits for the frame in the sink
     // and drops the others, so that nothing uses the buffers when they go.
-    SinkThread sinking(sink, kFramesInSink);
+    // Each frame's events are finished (their frame set, counted, put in
+    // order) on the sink's thread, so that the scan goes on to the next step
+    // at once.
+    SinkThread sinking(sink, kFramesInSink, [](ScannedFrame& frame) {
+      finish_events(*frame.events, frame.summary.collisions, frame.summary);
+    });
     // Frame i is read ahead, then prepared (for collisions) and the frame
     // after it read, while frame i - 2 is worked on.
     auto take_read = [&](std::size_t i) {
@@ -206,7 +211,6 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
         totals.stats.add(backend.stats());
         done.summary.intersections = frame_events.size() - done.summary.collisions;
       }
-      finish_events(frame_events, done.summary.collisions, done.summary);
       done.events = &frame_events;
       done.x = &current;
       done.x_next = has_next ? &next : nullptr;

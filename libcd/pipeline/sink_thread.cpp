@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 namespace snag {
 
@@ -15,8 +16,11 @@ double seconds_since(Clock::time_point start) {
 
 }  // namespace
 
-SinkThread::SinkThread(ScanSink& sink, std::size_t capacity)
-    : sink_(sink), capacity_(std::max<std::size_t>(capacity, 1)), thread_([this] { run(); }) {}
+SinkThread::SinkThread(ScanSink& sink, std::size_t capacity, std::function<void(ScannedFrame&)> finish)
+    : sink_(sink),
+      capacity_(std::max<std::size_t>(capacity, 1)),
+      finish_(std::move(finish)),
+      thread_([this] { run(); }) {}
 
 SinkThread::~SinkThread() {
   {
@@ -40,7 +44,10 @@ void SinkThread::run() {
     const auto start = Clock::now();
     std::exception_ptr error;
     try {
-      arena_.execute([&] { sink_.frame(frame); });
+      arena_.execute([&] {
+        if (finish_) finish_(frame);
+        sink_.frame(frame);
+      });
     } catch (...) {
       error = std::current_exception();
     }

@@ -4,14 +4,15 @@
 // ones and no thread is started per frame.
 #pragma once
 
+#include <tbb/task_arena.h>
+
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <thread>
-
-#include <tbb/task_arena.h>
 
 #include "libcd/pipeline/scan.hpp"
 
@@ -20,8 +21,10 @@ namespace snag {
 class SinkThread {
  public:
   /// Starts the thread. `capacity` (at least 1): how many frames may wait or
-  /// be in the sink at once; the scan's buffers must outlive them.
-  SinkThread(ScanSink& sink, std::size_t capacity);
+  /// be in the sink at once; the scan's buffers must outlive them. `finish`,
+  /// when set, is called on each frame on the sink's thread just before the
+  /// sink is (the scan's last work on a frame, taken off the scan's thread).
+  SinkThread(ScanSink& sink, std::size_t capacity, std::function<void(ScannedFrame&)> finish = {});
   /// Drops the frames not yet started, waits for the one in the sink and
   /// ends the thread (so that nothing uses the scan's buffers after it).
   ~SinkThread();
@@ -37,8 +40,8 @@ class SinkThread {
   /// Waits for every frame handed over. Rethrows what the sink threw.
   void drain() { wait_until_at_most(0); }
 
-  /// Time spent in ScanSink::frame and time spent waiting in hand() and
-  /// drain(), seconds, so far.
+  /// Time spent in `finish` and ScanSink::frame, and time spent waiting in
+  /// hand() and drain(), seconds, so far.
   double sink_seconds() const;
   double wait_seconds() const { return wait_seconds_; }
 
@@ -48,6 +51,7 @@ class SinkThread {
 
   ScanSink& sink_;
   const std::size_t capacity_;
+  const std::function<void(ScannedFrame&)> finish_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<ScannedFrame> queue_;  // frames waiting for the sink, in order

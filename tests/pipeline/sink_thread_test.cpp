@@ -78,6 +78,39 @@ TEST(SinkThread, HandsFramesInOrderAndWaitsWhenFull) {
   EXPECT_GT(thread.sink_seconds(), 0.0);
 }
 
+// Records, for each frame, whether `finish` had run on it and on which thread.
+class FinishedSink final : public ScanSink {
+ public:
+  void frame(ScannedFrame& frame) override {
+    finished.push_back(frame.summary.collisions == 1000 + frame.position);
+    threads.push_back(std::this_thread::get_id());
+  }
+  std::vector<bool> finished;
+  std::vector<std::thread::id> threads;
+};
+
+TEST(SinkThread, FinishesEachFrameOnItsOwnThreadJustBeforeTheSink) {
+  FinishedSink sink;
+  std::vector<std::size_t> finished_order;
+  std::vector<std::thread::id> finish_threads;
+  {
+    SinkThread thread(sink, 2, [&](ScannedFrame& frame) {
+      frame.summary.collisions = 1000 + frame.position;  // what the sink must see
+      finished_order.push_back(frame.position);
+      finish_threads.push_back(std::this_thread::get_id());
+    });
+    for (std::size_t p = 0; p < 6; ++p) thread.hand(at(p));
+    thread.drain();
+  }
+  EXPECT_EQ(finished_order, (std::vector<std::size_t>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(sink.finished, std::vector<bool>(6, true));
+  ASSERT_EQ(finish_threads.size(), sink.threads.size());
+  for (std::size_t p = 0; p < finish_threads.size(); ++p) {
+    EXPECT_NE(finish_threads[p], std::this_thread::get_id()) << "frame " << p << " was finished on the scan's thread";
+    EXPECT_EQ(finish_threads[p], sink.threads[p]) << "frame " << p;
+  }
+}
+
 TEST(SinkThread, ASinkErrorComesOutAndNoLaterFrameReachesTheSink) {
   GatedSink sink(false, 1);
   SinkThread thread(sink, 2);
