@@ -1,14 +1,14 @@
 #include "report/regions.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
-#include <tbb/parallel_sort.h>
-
 #include <algorithm>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_sort.h>
 
 #include "libcd/pipeline/event_objects.hpp"
 
@@ -22,7 +22,7 @@ constexpr std::size_t kEventsPerTask = 2048;
 // The events of a frame are grouped in blocks of this many, each block's
 // runs of one group listed on one thread.
 constexpr std::size_t kEventsPerBlock = 16384;
-// Words of the face marks (64 faces each) listed per task.
+// Words of a bit set of marks (64 ids each) taken per task.
 constexpr std::size_t kWordsPerTask = 32;
 
 void grow(Bounds& bounds, const Vec3& p) {
