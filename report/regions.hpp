@@ -34,11 +34,12 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
 
 /// Builds the regions of one frame. Holds scene-sized scratch arrays so that
 /// each frame costs time in the number of its events, not of the scene,
-/// but for reading the face marks (a bit per face) of the two objects of
-/// each group.
+/// but for reading the marks (a bit per face, vertex and edge) of the two
+/// objects of each group.
 ///
 /// The events are grouped by pair and kind on all threads (in blocks, whose
-/// runs of one group then take their places in event order). Each group's
+/// runs of one group then take their places in event order). Two groups are
+/// built at once, each on a lane with scratch of its own. Each group's
 /// events are read once, on all threads: their elements marked and joined
 /// in a union-find over faces and vertices (whose roots are the smallest face
 /// of each region, so that the regions do not depend on the threads). The
