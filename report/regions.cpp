@@ -309,7 +309,7 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
   const bool face_boxes = kind == EventKind::kIntersection;
   const std::size_t region_count = position_sums.size();
   const std::size_t blocks = (group.size() + kEventsPerTask - 1) / kEventsPerTask;
-  lane.block_sums.assign(blocks * region_count, RegionSums{});
+  lane.block_sums.assign(blocks * region_count, RegionSums{0, empty_bounds(), std::numeric_limits<double>::infinity()});
   lane.touched_region.resize(lane.touched.size());
   lane.touched_box.resize(face_boxes ? lane.touched.size() : 0);
   tbb::parallel_invoke(
@@ -517,8 +517,7 @@ void TrackBuilder::add_frame(std::size_t position, std::size_t frame, std::vecto
       survivor.worst_frame = merged.worst_frame;
       survivor.centroid = merged.centroid;
     }
-    grow(survivor.bounds, merged.bounds.lo);
-    grow(survivor.bounds, merged.bounds.hi);
+    grow(survivor.bounds, merged.bounds);
     survivor.toi = std::min(survivor.toi, merged.toi);
   }
   std::map<std::size_t, TrackRecord> going_on;
@@ -556,8 +555,7 @@ void TrackBuilder::add_frame(std::size_t position, std::size_t frame, std::vecto
       track.worst_frame = frame;
       track.centroid = region.centroid;
     }
-    grow(track.bounds, region.bounds.lo);
-    grow(track.bounds, region.bounds.hi);
+    grow(track.bounds, region.bounds);
     if (region.kind == EventKind::kCollision) track.toi = std::min(track.toi, region.toi);
   }
   for (auto& [id, track] : open_)

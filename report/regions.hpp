@@ -16,7 +16,6 @@
 
 #include <atomic>
 #include <cstdint>
-#include <limits>
 #include <map>
 #include <memory>
 #include <tuple>
@@ -84,11 +83,10 @@ class RegionBuilder {
   /// The union-find's set of vertex v (after the faces').
   Index vertex_set(Index v) const { return static_cast<Index>(scene_.triangle_count()) + v; }
 
-  static constexpr double kInf = std::numeric_limits<double>::infinity();
   struct RegionSums {  // a region's count, box and earliest time over a block of its events
-    std::size_t events = 0;
-    Bounds bounds{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
-    double toi = kInf;
+    std::size_t events;
+    Bounds bounds;
+    double toi;
   };
   struct EventPlace {
     Vec3 position;
