@@ -179,6 +179,7 @@ struct CcdFound {
   int slot_t0 = -1, slot_t1 = -1;
   std::vector<Event> events;  ///< detected ahead: the events of the chunks before the last
   std::size_t vf_count = 0, ee_count = 0;
+  std::size_t chunks = 0;  ///< of the broad phase's candidates: with one, the events are in event order
   BroadPhaseStats broad;
   double narrow_seconds = 0, device_seconds = 0;
 };
@@ -382,12 +383,13 @@ class CudaBackend final : public Backend {
     }
     // What the screen left undecided: the whole test and certification, on
     // the CPU. Each chunk's events are in candidate order, vertex-face before
-    // edge-edge; several chunks are put in event order.
+    // edge-edge, which is event order; those of several chunks are put in
+    // event order (settling drops events, keeping the order).
     const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] {
       settle_collision_events(*scene_, x_t0, x_t1, found.vf_count, found.ee_count, settings_.ccd, settings_.certifier,
                               stats_.narrow, events, first, &event_scratch_);
-      sort_events_from(events, first, &event_scratch_);
+      if (found.chunks > 1) sort_events_from(events, first, &event_scratch_);
     });
     stats_.narrow.seconds_ccd_events = seconds_since(events_start) - stats_.narrow.seconds_certify;
     // The narrow phase's rounds ran inside the broad phase's chunks.
@@ -585,6 +587,7 @@ class CudaBackend final : public Backend {
                                     CcdPasses::kScreenOnly, events, flush_deferred);
       found.vf_count += chunk.vf_count;
       found.ee_count += chunk.ee_count;
+      ++found.chunks;
       found.narrow_seconds += seconds_since(narrow_start);
     };
     bool again = false;
@@ -598,7 +601,7 @@ class CudaBackend final : public Backend {
       }
       narrow_.reset_timings();
       edge_narrow_.reset_timings();
-      found.vf_count = found.ee_count = 0;
+      found.vf_count = found.ee_count = found.chunks = 0;
       found.narrow_seconds = 0;
       ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk);
     });
