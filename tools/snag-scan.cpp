@@ -87,19 +87,27 @@ std::unique_ptr<snag::Backend> choose_backend(const std::string& requested, cons
   return cpu_backend();
 }
 
-// Threads that launch the CUDA back end's work and wait for it: the scan's,
-// and the back end's two workers (the continuous and the static detection).
-constexpr unsigned kDeviceDrivingThreads = 3;
+// Threads of a scan beside the CUDA back end that want a core of their own
+// while the device is busiest, besides the thread pools' workers: the back
+// end's two detection workers and its event copier, the frame reader, and the
+// scan's, the sink's and the report's joining threads, which run their pools'
+// tasks beside the workers. A pool capped at N threads has N - 1 workers, so
+// a cap of all cores but six gives each of these seven a core.
+constexpr unsigned kThreadsBesideTheWorkers = 6;
 
 // The most threads the scan's parallel work (the back end's host work, the
-// report's) may use at once: --threads when given, else every core, less the
-// device-driving threads beside the CUDA back end. With every core given to
-// the thread pools, a step took longer (cloth_ball, CCD + static, 16 cores:
-// 8.1 ms a step, against 7.6 ms with 13).
+// report's) may use at once: --threads when given, else every core, and
+// beside the CUDA back end on more than six cores all but
+// kThreadsBesideTheWorkers, and at least half. With more, a busy pool kept
+// the detection workers from their cores: the next step's detection then
+// started up to 2 ms late (cloth_ball, CCD + static, 42 frames, 16 cores, 6
+// interleaved runs: a median of 7.2 ms a step with a cap of 13, 6.6 with 10,
+// and 7.6 with 8).
 unsigned host_threads(unsigned requested, bool cuda) {
   if (requested > 0) return requested;
   const auto cores = static_cast<unsigned>(std::max(1, tbb::info::default_concurrency()));
-  return cuda && cores > 2 * kDeviceDrivingThreads ? cores - kDeviceDrivingThreads : cores;
+  if (!cuda || cores <= kThreadsBesideTheWorkers) return cores;
+  return std::max(cores - kThreadsBesideTheWorkers, cores / 2);
 }
 
 // Reports name objects; two objects of one name could not be told apart.
@@ -326,8 +334,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
   app.add_option("--grid", options.grid, "uniform, or adaptive (crowded cells subdivided)")
       ->check(CLI::IsMember({"uniform", "adaptive"}));
-  app.add_option("-j,--threads", options.threads,
-                 "CPU threads for the scan's parallel work (0 = all cores; beside the CUDA back end, all but three)");
+  app.add_option(
+      "-j,--threads", options.threads,
+      "CPU threads for the scan's parallel work (0 = all cores; beside the CUDA back end, all but six, at least half)");
   app.add_option("--lambda", options.lambda, "Cell-size coefficient of the CUDA back end's grid: cell = 3 x lambda x mean triangle radius (the CPU back end's box grid does not use it)")
       ->check(CLI::Range(1.0001, 100.0));
   app.add_option("--device-memory", options.device_memory,
