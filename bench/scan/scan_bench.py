@@ -44,9 +44,13 @@ compares every event line of the reports (--max-events 0): the GPU must
 report the same events, bit for bit, with every grid of --grids.
 
 Times are of one machine and one call: compare figures of the same call;
-each figure is the median of --runs runs.
+each figure is the median of --runs runs. Hosts differ, and one host drifts
+from minute to minute: to compare two builds, give the other one as
+--baseline. Their runs then alternate (one of each in turn, every scene, mode
+and grid), both get a row, and a line gives the new median over the
+baseline's and in how many runs, paired in turn, the new one was faster.
 
-    scan_bench.py [--build DIR | --scan EXE [--bench-gpu EXE]] [--backend cuda|cpu]
+    scan_bench.py [--build DIR | --scan EXE [--bench-gpu EXE]] [--baseline EXE] [--backend cuda|cpu]
                   [--scenes a,b,...] [--frames N] [--runs N] [--modes ccd,all] [--grids uniform,adaptive]
                   [--check-cpu] [--work DIR] [--json FILE]
 """
@@ -190,44 +194,65 @@ def make_scenes(args, work):
     return scenes
 
 
-def measure(args, scene, mode, grid, work):
-    """Medians over --runs of the per-step times (ms) of one scene, mode and grid, and memory."""
+def one_run(args, scan, scene, mode, grid, work):
+    """One run of `scan` on a scene: its 2-frame and long selections (their trailers' times) and memory."""
     long_frames = args.frames if scene.frame_count is None else min(args.frames, scene.frame_count)
-    per_step = {k: [] for k in STAGES + ["report", "total"]}
-    host_peak, device_peak, broad_peak, events, stages = [], [], 0.0, 0, {}
-    walls, outside, starts = [], [], []
-    for run in range(args.runs):
-        totals = {}
-        for frames in (2, long_frames):
-            path = os.path.join(work, f"{scene.name}_{mode}_{grid}_{frames}.jsonl")
-            rss, device, wall = run_scan([args.scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "--grid", grid,
-                                    "-q", "-r", path],
-                                   sample_device=frames == long_frames and args.backend == "cuda")
-            t = trailer(path)
-            totals[frames] = stage_seconds(t)
-            if frames == long_frames:
-                host_peak.append(rss)
-                walls.append(wall)
-                outside.append(wall - totals[frames]["total"])
-                starts.append(t["timing"].get("start", 0.0))
-                if device is not None:
-                    device_peak.append(device)
-                broad_peak = max(broad_peak, broad_peak_mib(t))
-                stages = t.get("stages", {})
-                events = t["summary"]["events"]
-        for k in per_step:
-            per_step[k].append(1e3 * (totals[long_frames][k] - totals[2][k]) / (long_frames - 2))
+    run = {"totals": {}}
+    for frames in (2, long_frames):
+        path = os.path.join(work, f"{scene.name}_{mode}_{grid}_{frames}.jsonl")
+        rss, device, wall = run_scan([scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "--grid", grid,
+                                      "-q", "-r", path],
+                                     sample_device=frames == long_frames and args.backend == "cuda")
+        t = trailer(path)
+        run["totals"][frames] = stage_seconds(t)
+        if frames == long_frames:
+            run.update({"frames": long_frames, "rss": rss, "device": device, "wall": wall,
+                        "outside": wall - run["totals"][frames]["total"], "start": t["timing"].get("start", 0.0),
+                        "broad_peak": broad_peak_mib(t), "stages": t.get("stages", {}),
+                        "events": t["summary"]["events"]})
+    return run
+
+
+def summarize(scene, mode, grid, runs):
+    """Medians over the runs of the per-step times (ms) of one scene, mode and grid, and memory."""
+    long_frames = runs[0]["frames"]
+    per_step = {k: [1e3 * (r["totals"][long_frames][k] - r["totals"][2][k]) / (long_frames - 2) for r in runs]
+                for k in STAGES + ["report", "total"]}
+    device_peak = [r["device"] for r in runs if r["device"] is not None]
     row = {k: statistics.median(v) for k, v in per_step.items()}
     row["backend"] = sum(row[k] for k in BACKEND_STAGES)
     # Reading runs on its own thread beside the rest: not part of the sum.
     row["other"] = row["total"] - sum(row[k] for k in STAGES if k != "read")
     row.update({"scene": scene.name, "mode": mode, "grid": grid, "triangles": scene.triangles, "frames": long_frames,
-                "runs": args.runs, "events_long": events, "host_peak_mib": max(host_peak),
-                "device_peak_mib": max(device_peak) if device_peak else None, "broad_peak_mib": broad_peak,
-                "total_spread_ms": [min(per_step["total"]), max(per_step["total"])], "stages": stages,
-                "wall_s": statistics.median(walls), "outside_ms": 1e3 * statistics.median(outside),
-                "start_ms": 1e3 * statistics.median(starts)})
+                "runs": len(runs), "events_long": runs[-1]["events"], "host_peak_mib": max(r["rss"] for r in runs),
+                "device_peak_mib": max(device_peak) if device_peak else None,
+                "broad_peak_mib": max(r["broad_peak"] for r in runs),
+                "total_spread_ms": [min(per_step["total"]), max(per_step["total"])],
+                "total_per_run_ms": per_step["total"], "stages": runs[-1]["stages"],
+                "wall_s": statistics.median(r["wall"] for r in runs),
+                "outside_ms": 1e3 * statistics.median(r["outside"] for r in runs),
+                "start_ms": 1e3 * statistics.median(r["start"] for r in runs)})
     return row
+
+
+def measure(args, scene, mode, grid, work):
+    """{variant: row}: args.scan's medians, and with --baseline the baseline's, their runs taken in turn (a
+    run of one, then of the other), so that both meet the same drift of the machine."""
+    scans = {"scan": args.scan} if args.baseline is None else {"baseline": args.baseline, "scan": args.scan}
+    runs = {variant: [] for variant in scans}
+    for _ in range(args.runs):
+        for variant, scan in scans.items():
+            runs[variant].append(one_run(args, scan, scene, mode, grid, work))
+    return {variant: summarize(scene, mode, grid, r) for variant, r in runs.items()}
+
+
+def compare(base, new):
+    """The new scan's median total per step over the baseline's, and in how many of the runs (paired in the
+    order they ran) the new one took less."""
+    pairs = list(zip(base["total_per_run_ms"], new["total_per_run_ms"]))
+    return {"scene": base["scene"], "mode": base["mode"], "grid": base["grid"], "baseline_ms": base["total"],
+            "new_ms": new["total"], "ratio": new["total"] / base["total"] if base["total"] > 0 else float("nan"),
+            "faster_runs": sum(1 for b, n in pairs if n < b), "runs": len(pairs)}
 
 
 def check_cpu(args, scene, grids, work):
@@ -261,6 +286,7 @@ def main():
     parser.add_argument("--samples", default=os.path.join(ROOT, "samples"))
     parser.add_argument("--work")
     parser.add_argument("--json", help="also write the numbers here")
+    parser.add_argument("--baseline", help="another snag-scan to compare with: its runs alternate with --scan's")
     args = parser.parse_args()
     if args.frames < 3 or args.runs < 1:
         parser.error("--frames must be at least 3 and --runs at least 1")
@@ -268,42 +294,55 @@ def main():
     args.bench_gpu = args.bench_gpu or os.path.join(args.build, "bench", "gpu", "snag-bench-gpu")
     if not os.access(args.scan, os.X_OK):
         parser.error(f"{args.scan}: no snag-scan there (give --build or --scan)")
+    if args.baseline is not None and not os.access(args.baseline, os.X_OK):
+        parser.error(f"{args.baseline}: no snag-scan there")
     work = args.work or tempfile.mkdtemp(prefix="snag-scan-bench-")
     os.makedirs(work, exist_ok=True)
     scenes = make_scenes(args, work)
-    results = {"backend": args.backend, "frames": args.frames, "runs": args.runs, "rows": [], "checks": []}
+    results = {"backend": args.backend, "frames": args.frames, "runs": args.runs, "rows": [], "comparisons": [],
+               "checks": []}
 
     print(f"== per step through snag-scan --backend {args.backend}, ms (median of {args.runs}; "
           f"(total of {args.frames} frames - total of 2) / {args.frames - 2})")
     grids = args.grids.split(",")
     if any(g not in ("uniform", "adaptive") for g in grids):
         parser.error("--grids takes uniform and adaptive")
-    header = (f"{'scene':<15} {'mode':<4} {'grid':<8} {'total':>8} {'backend':>8} {'read':>6} {'ccd bp':>7} {'ccd np':>7} "
+    width = 15 if args.baseline is None else 22  # the scene's name, and with --baseline which build ran
+    header = (f"{'scene':<{width}} {'mode':<4} {'grid':<8} {'total':>8} {'backend':>8} {'read':>6} {'ccd bp':>7} {'ccd np':>7} "
               f"{'certif':>7} {'st bp':>7} {'st np':>7} {'report':>7} {'rep wait':>8} {'other':>7} {'dev MiB':>8} {'bp MiB':>7} "
               f"{'host MiB':>8} {'wall s':>7} {'outside':>7} {'start':>6}")
     print(header)
     for name in args.scenes.split(","):
         if name not in scenes:
-            print(f"{name:<15} (skipped: its files or snag-bench-gpu are missing)")
+            print(f"{name:<{width}} (skipped: its files or snag-bench-gpu are missing)")
             continue
         for mode in args.modes.split(","):
             for grid in grids:
-                row = measure(args, scenes[name], mode, grid, work)
-                results["rows"].append(row)
-                device = "-" if row["device_peak_mib"] is None else f"{row['device_peak_mib']:.0f}"
-                print(f"{name:<15} {mode:<4} {grid:<8} {row['total']:>8.2f} {row['backend']:>8.2f} {row['read']:>6.2f} "
-                      f"{row['ccd_broad']:>7.2f} {row['ccd_narrow']:>7.2f} {row['certification']:>7.2f} "
-                      f"{row['static_broad']:>7.2f} {row['static_narrow']:>7.2f} {row['report']:>7.2f} {row['report_wait']:>8.2f} "
-                      f"{row['other']:>7.2f} {device:>8} {row['broad_peak_mib']:>7.0f} {row['host_peak_mib']:>8.0f} "
-                      f"{row['wall_s']:>7.2f} {row['outside_ms']:>7.0f} {row['start_ms']:>6.0f}",
-                      flush=True)
+                rows = measure(args, scenes[name], mode, grid, work)
+                for variant, row in rows.items():
+                    row["variant"] = variant
+                    results["rows"].append(row)
+                    device = "-" if row["device_peak_mib"] is None else f"{row['device_peak_mib']:.0f}"
+                    label = name if args.baseline is None else f"{name} ({'base' if variant == 'baseline' else 'new'})"
+                    print(f"{label:<{width}} {mode:<4} {grid:<8} {row['total']:>8.2f} {row['backend']:>8.2f} {row['read']:>6.2f} "
+                          f"{row['ccd_broad']:>7.2f} {row['ccd_narrow']:>7.2f} {row['certification']:>7.2f} "
+                          f"{row['static_broad']:>7.2f} {row['static_narrow']:>7.2f} {row['report']:>7.2f} "
+                          f"{row['report_wait']:>8.2f} {row['other']:>7.2f} {device:>8} {row['broad_peak_mib']:>7.0f} "
+                          f"{row['host_peak_mib']:>8.0f} {row['wall_s']:>7.2f} {row['outside_ms']:>7.0f} "
+                          f"{row['start_ms']:>6.0f}",
+                          flush=True)
+                if args.baseline is not None:
+                    comparison = compare(rows["baseline"], rows["scan"])
+                    results["comparisons"].append(comparison)
+                    print(f"{'':<{width}} {mode:<4} {grid:<8} new/base {comparison['ratio']:.3f}; new faster in "
+                          f"{comparison['faster_runs']} of {comparison['runs']} runs", flush=True)
     if args.check_cpu and args.backend != "cpu":
         print(f"== same events as the CPU back end (first step, every event listed)")
         for name in args.scenes.split(","):
             if name in scenes and name != "cloth_ball_x16":  # the CPU back end takes minutes on it
                 check = check_cpu(args, scenes[name], grids, work)
                 results["checks"].append(check)
-                print(f"{name:<15} {check['events']:>9} events  {'same' if check['same'] else 'DIFFERENT'}", flush=True)
+                print(f"{name:<{width}} {check['events']:>9} events  {'same' if check['same'] else 'DIFFERENT'}", flush=True)
     if args.json:
         with open(args.json, "w") as out:
             json.dump(results, out, indent=1)
