@@ -129,23 +129,18 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
 
   // 1. Bounding volumes; 2. cell size (exact sum) and grid.
   DeviceMemoryTracker::set_stage("broad phase: bounds");
-  Vec3 scene_lo, scene_hi;
-  double max_radius = 0;
-  compute_primitive_bounds_on_device(b.topology.triangles.data(), triangle_count, b.topology.edges.data(),
-                                     edge_count, d_x_t0, d_x_t1, vertex_count, settings_.thickness, b.bounds,
-                                     stream, scene_lo, scene_hi, max_radius, budget_check("bounds"));
+  BoundsSummary bounded_by;
+  compute_primitive_bounds_on_device(b.topology.triangles.data(), triangle_count, b.topology.edges.data(), edge_count,
+                                     d_x_t0, d_x_t1, vertex_count, settings_.thickness, subdivide_, b.bounds, stream,
+                                     bounded_by, budget_check("bounds"));
   double size = 0;
   if (triangle_count > 0) {
-    if (subdivide_) {
-      const int shift = radius_sum_shift(max_radius);
-      const FixedPointSum sum = radius_sum_on_device(b.bounds, triangle_count, shift, stream);
-      size = 3.0 * settings_.lambda * fixed_point_mean(sum, triangle_count, shift);
-    } else {
-      size = 3.0 * max_radius * (1 + 1e-9);  // largest_triangle_cell_size
-    }
+    size = subdivide_ ? 3.0 * settings_.lambda *
+                            fixed_point_mean(bounded_by.radius_sum, triangle_count, bounded_by.radius_shift)
+                      : 3.0 * bounded_by.max_radius * (1 + 1e-9);  // largest_triangle_cell_size
   }
   bounded.record(stream);
-  const GridSpec grid = make_grid(scene_lo, scene_hi, size);
+  const GridSpec grid = make_grid(bounded_by.scene_lo, bounded_by.scene_hi, size);
   stats_.cell_size = grid.cell_size;
   for (int a = 0; a < 3; ++a) stats_.grid_dims[a] = grid.dims[a];
 
@@ -368,9 +363,7 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   add("bounds: vertex DOPs", b.bounds.vertices.capacity_bytes());
   add("bounds: edge and vertex float boxes",
       b.bounds.edge_boxes.capacity_bytes() + b.bounds.vertex_boxes.capacity_bytes());
-  add("bounds: radii, scratch", b.bounds.triangle_radii.capacity_bytes() + b.bounds.temp.capacity_bytes() +
-                                    b.bounds.box.capacity_bytes() + b.bounds.max_radius.capacity_bytes() +
-                                    b.bounds.radius_sum.capacity_bytes());
+  add("bounds: radii, reductions", b.bounds.triangle_radii.capacity_bytes() + b.bounds.reduced.capacity_bytes());
   const DeviceSubdivision& s = b.subdivision;
   add("subdivision: leaves", s.leaves.capacity_bytes() + s.spare.capacity_bytes());
   add("subdivision: level lists", s.items.capacity_bytes() + s.next.capacity_bytes());

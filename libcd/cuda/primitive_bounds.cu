@@ -1,17 +1,20 @@
 // Bounding volumes of triangles, edges and vertices on the GPU: the CUDA twin
 // of libcd/bounding_volume/primitive_bounds.cpp (same per-primitive functions).
 // Klosowski et al., "Efficient collision detection using bounding volume
-// hierarchies of k-DOPs", IEEE TVCG 1998. Reductions: CUB DeviceReduce.
-#include "libcd/cuda/primitive_bounds.cuh"
-
-#include <cub/device/device_reduce.cuh>
-#include <thrust/iterator/transform_iterator.h>
-
+// hierarchies of k-DOPs", IEEE TVCG 1998.
+//
+// The scene box, the largest radius and the radii's exact sum are reduced
+// inside the kernels that compute the primitives' bounds (a block's values,
+// then one atomic per block and value), with one read-back: each a minimum,
+// maximum or integer sum, which no order changes. A double is reduced as its
+// order key, an integer that orders as the double does (a minimum as the
+// maximum of the keys' complements), so that 64-bit integer atomics take it.
 #include <algorithm>
+#include <cstring>
 
 #include "libcd/bounding_volume/primitive_bounds.hpp"
-#include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
+#include "libcd/cuda/primitive_bounds.cuh"
 
 namespace snag {
 namespace {
@@ -19,35 +22,57 @@ namespace {
 using detail::blocks_for;
 using detail::thread_item;
 
-struct Vec3Min {
-  SNAG_HD_INLINE Vec3 operator()(const Vec3& a, const Vec3& b) const { return min(a, b); }
-};
-struct Vec3Max {
-  SNAG_HD_INLINE Vec3 operator()(const Vec3& a, const Vec3& b) const { return max(a, b); }
-};
-struct DoubleMax {
-  SNAG_HD_INLINE double operator()(double a, double b) const { return a > b ? a : b; }
-};
-struct FixedPointAdd {
-  SNAG_HD_INLINE FixedPointSum operator()(const FixedPointSum& a, const FixedPointSum& b) const { return a + b; }
-};
-struct Quantize {
-  int shift;
-  SNAG_HD_INLINE FixedPointSum operator()(double r) const { return quantize_radius(r, shift); }
-};
+/// An integer that orders as the doubles do (-0 below +0; NaN is not ordered:
+/// positions are finite).
+SNAG_HD_INLINE std::uint64_t order_key(double d) {
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &d, sizeof bits);
+  return bits >> 63 ? ~bits : bits | (std::uint64_t{1} << 63);
+}
+
+SNAG_HD_INLINE double from_order_key(std::uint64_t key) {
+  const std::uint64_t bits = key >> 63 ? key & ~(std::uint64_t{1} << 63) : ~key;
+  double d = 0;
+  std::memcpy(&d, &bits, sizeof d);
+  return d;
+}
+
+/// Maximizes *to over the block's `count` keys per thread: each warp's
+/// maximum by shuffles, then the block's in shared memory, then one atomic
+/// per key. Every thread of the block calls it.
+template <int count>
+__device__ void block_max_to(const std::uint64_t (&keys)[count], std::uint64_t* to) {
+  __shared__ unsigned long long block[count];
+  if (threadIdx.x < count) block[threadIdx.x] = 0;
+  __syncthreads();
+  for (int k = 0; k < count; ++k) {
+    unsigned long long key = keys[k];
+    for (int offset = 16; offset > 0; offset /= 2) key = ::max(key, __shfl_xor_sync(0xffffffffu, key, offset));
+    if ((threadIdx.x & 31u) == 0) atomicMax(&block[k], key);
+  }
+  __syncthreads();
+  if (threadIdx.x < count && block[threadIdx.x] != 0)
+    atomicMax(reinterpret_cast<unsigned long long*>(to + threadIdx.x), block[threadIdx.x]);
+}
 
 __global__ void triangle_bounds_kernel(const Triangle* tris, std::size_t n, const Vec3* x_t0, const Vec3* x_t1,
-                                       double thickness, Dop18* dops, FloatBox* boxes, double* radii) {
+                                       double thickness, Dop18* dops, FloatBox* boxes, double* radii,
+                                       BoundsReduction* reduced) {
   const std::uint64_t f = thread_item();
-  if (f >= n) return;
-  const Triangle t = tris[f];
-  const Vec3 c_t0[3] = {x_t0[t[0]], x_t0[t[1]], x_t0[t[2]]};
-  const Vec3 c_t1[3] = {x_t1[t[0]], x_t1[t[1]], x_t1[t[2]]};
-  const Dop18 dop = swept_dop(c_t0, c_t1, 3, thickness);
-  dops[f] = dop;
-  boxes[f] = float_box_of(dop);
-  const Vec3 points[6] = {c_t0[0], c_t0[1], c_t0[2], c_t1[0], c_t1[1], c_t1[2]};
-  radii[f] = sphere_of_points(points, 6).radius + thickness;
+  std::uint64_t key[1] = {0};
+  if (f < n) {
+    const Triangle t = tris[f];
+    const Vec3 c_t0[3] = {x_t0[t[0]], x_t0[t[1]], x_t0[t[2]]};
+    const Vec3 c_t1[3] = {x_t1[t[0]], x_t1[t[1]], x_t1[t[2]]};
+    const Dop18 dop = swept_dop(c_t0, c_t1, 3, thickness);
+    dops[f] = dop;
+    boxes[f] = float_box_of(dop);
+    const Vec3 points[6] = {c_t0[0], c_t0[1], c_t0[2], c_t1[0], c_t1[1], c_t1[2]};
+    const double radius = sphere_of_points(points, 6).radius + thickness;
+    radii[f] = radius;
+    key[0] = order_key(radius);
+  }
+  block_max_to(key, &reduced->max_radius);
 }
 
 __global__ void edge_bounds_kernel(const Edge* edges, std::size_t n, const Vec3* x_t0, const Vec3* x_t1,
@@ -63,26 +88,63 @@ __global__ void edge_bounds_kernel(const Edge* edges, std::size_t n, const Vec3*
 }
 
 __global__ void vertex_bounds_kernel(std::size_t n, const Vec3* x_t0, const Vec3* x_t1, double thickness, Dop18* dops,
-                                     FloatBox* boxes) {
+                                     FloatBox* boxes, BoundsReduction* reduced) {
   const std::uint64_t v = thread_item();
-  if (v >= n) return;
-  const Dop18 dop = swept_dop(&x_t0[v], &x_t1[v], 1, thickness);
-  dops[v] = dop;
-  boxes[v] = float_box_of(dop);
+  std::uint64_t keys[12] = {};
+  if (v < n) {
+    const Dop18 dop = swept_dop(&x_t0[v], &x_t1[v], 1, thickness);
+    dops[v] = dop;
+    boxes[v] = float_box_of(dop);
+    const Vec3 frames[2] = {x_t0[v], x_t1[v]};
+    for (int k = 0; k < 2; ++k) {
+      const double p[3] = {frames[k].x, frames[k].y, frames[k].z};
+      for (int a = 0; a < 3; ++a) {
+        keys[6 * k + a] = ~order_key(p[a]);
+        keys[6 * k + 3 + a] = order_key(p[a]);
+      }
+    }
+  }
+  block_max_to(keys, reduced->box);
+}
+
+/// The radii's exact fixed-point sum (radius_sum.hpp), with the shift of the
+/// largest radius that triangle_bounds_kernel left: a block's sum, then the
+/// low word added with one atomic and its carry and the high word with two more.
+__global__ void radius_sum_kernel(const double* radii, std::size_t n, BoundsReduction* reduced) {
+  const int shift = radius_sum_shift(::max(0.0, from_order_key(reduced->max_radius)));
+  const std::uint64_t f = thread_item();
+  FixedPointSum sum;
+  if (f < n) sum = quantize_radius(radii[f], shift);
+  __shared__ FixedPointSum warps[detail::kBlockSize / 32];
+  for (int offset = 16; offset > 0; offset /= 2) {
+    FixedPointSum other;
+    other.lo = __shfl_xor_sync(0xffffffffu, sum.lo, offset);
+    other.hi = __shfl_xor_sync(0xffffffffu, sum.hi, offset);
+    sum = sum + other;
+  }
+  if ((threadIdx.x & 31u) == 0) warps[threadIdx.x / 32] = sum;
+  __syncthreads();
+  if (threadIdx.x != 0) return;
+  FixedPointSum block;
+  for (unsigned w = 0; w < blockDim.x / 32; ++w) block = block + warps[w];
+  auto* lo = reinterpret_cast<unsigned long long*>(&reduced->radius_sum.lo);
+  auto* hi = reinterpret_cast<unsigned long long*>(&reduced->radius_sum.hi);
+  const unsigned long long before = atomicAdd(lo, static_cast<unsigned long long>(block.lo));
+  const unsigned long long carry = before + block.lo < before ? 1 : 0;
+  if (block.hi + carry != 0) atomicAdd(hi, static_cast<unsigned long long>(block.hi + carry));
 }
 
 }  // namespace
 
 void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t triangle_count, const Edge* edges,
                                         std::size_t edge_count, const Vec3* x_t0, const Vec3* x_t1,
-                                        std::size_t vertex_count, double thickness, DevicePrimitiveBounds& out,
-                                        cudaStream_t stream, Vec3& scene_lo, Vec3& scene_hi, double& max_radius,
+                                        std::size_t vertex_count, double thickness, bool with_radius_sum,
+                                        DevicePrimitiveBounds& out, cudaStream_t stream, BoundsSummary& summary,
                                         const GrowthCheck& check) {
   check_growth(check, out.triangles.growth_bytes(triangle_count) + out.triangle_boxes.growth_bytes(triangle_count) +
                           out.triangle_radii.growth_bytes(triangle_count) + out.edges.growth_bytes(edge_count) +
                           out.vertices.growth_bytes(vertex_count) + out.edge_boxes.growth_bytes(edge_count) +
-                          out.vertex_boxes.growth_bytes(vertex_count) + out.box.growth_bytes(4) +
-                          out.max_radius.growth_bytes(1));
+                          out.vertex_boxes.growth_bytes(vertex_count) + out.reduced.growth_bytes(1));
   out.triangles.resize(triangle_count);
   out.triangle_boxes.resize(triangle_count);
   out.triangle_radii.resize(triangle_count);
@@ -90,13 +152,19 @@ void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t t
   out.vertices.resize(vertex_count);
   out.edge_boxes.resize(edge_count);
   out.vertex_boxes.resize(vertex_count);
-  out.box.resize(4);
-  out.max_radius.resize(1);
+  out.reduced.resize(1);
+  BoundsReduction* reduced = out.reduced.data();
+  SNAG_CUDA_CHECK(cudaMemsetAsync(reduced, 0, sizeof(BoundsReduction), stream));
   if (triangle_count > 0) {
     triangle_bounds_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(
         triangles, triangle_count, x_t0, x_t1, thickness, out.triangles.data(), out.triangle_boxes.data(),
-        out.triangle_radii.data());
+        out.triangle_radii.data(), reduced);
     SNAG_CUDA_CHECK_LAUNCH();
+    if (with_radius_sum) {
+      radius_sum_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(out.triangle_radii.data(),
+                                                                                       triangle_count, reduced);
+      SNAG_CUDA_CHECK_LAUNCH();
+    }
   }
   if (edge_count > 0) {
     edge_bounds_kernel<<<blocks_for(edge_count), detail::kBlockSize, 0, stream>>>(
@@ -105,75 +173,34 @@ void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t t
   }
   if (vertex_count > 0) {
     vertex_bounds_kernel<<<blocks_for(vertex_count), detail::kBlockSize, 0, stream>>>(
-        vertex_count, x_t0, x_t1, thickness, out.vertices.data(), out.vertex_boxes.data());
+        vertex_count, x_t0, x_t1, thickness, out.vertices.data(), out.vertex_boxes.data(), reduced);
     SNAG_CUDA_CHECK_LAUNCH();
   }
+  BoundsReduction host;
+  ReadBack(stream).add(&host, reduced).wait();
 
-  const Vec3 lo_init{1e300, 1e300, 1e300}, hi_init{-1e300, -1e300, -1e300};
-  const double radius_init = 0;  // radii are ≥ 0; the CPU takes the maximum of the same values
-  std::size_t need = 0, bytes = 0;
-  if (vertex_count > 0) {
-    SNAG_CUDA_CHECK(cub::DeviceReduce::Reduce(nullptr, bytes, x_t0, out.box.data(), vertex_count, Vec3Min{}, lo_init,
-                                              stream));
-    need = std::max(need, bytes);
-  }
+  // As the CPU's reductions, from the same starts: radii from 0 (they are
+  // not negative), the box from ±1e300.
+  summary = BoundsSummary{};
   if (triangle_count > 0) {
-    SNAG_CUDA_CHECK(cub::DeviceReduce::Reduce(nullptr, bytes, out.triangle_radii.data(), out.max_radius.data(),
-                                              triangle_count, DoubleMax{}, radius_init, stream));
-    need = std::max(need, bytes);
-  }
-  detail::ensure_scratch(out.temp, need);
-  if (vertex_count > 0) {
-    const Vec3* frames[2] = {x_t0, x_t1};
-    for (int k = 0; k < 2; ++k) {
-      bytes = out.temp.size();
-      SNAG_CUDA_CHECK(cub::DeviceReduce::Reduce(out.temp.data(), bytes, frames[k], out.box.data() + 2 * k,
-                                                vertex_count, Vec3Min{}, lo_init, stream));
-      bytes = out.temp.size();
-      SNAG_CUDA_CHECK(cub::DeviceReduce::Reduce(out.temp.data(), bytes, frames[k], out.box.data() + 2 * k + 1,
-                                                vertex_count, Vec3Max{}, hi_init, stream));
+    summary.max_radius = std::max(0.0, from_order_key(host.max_radius));
+    if (with_radius_sum) {
+      summary.radius_shift = radius_sum_shift(summary.max_radius);
+      summary.radius_sum = host.radius_sum;
     }
   }
-  if (triangle_count > 0) {
-    bytes = out.temp.size();
-    SNAG_CUDA_CHECK(cub::DeviceReduce::Reduce(out.temp.data(), bytes, out.triangle_radii.data(),
-                                              out.max_radius.data(), triangle_count, DoubleMax{}, radius_init,
-                                              stream));
-  }
-  Vec3 box[4];
-  max_radius = 0;
-  ReadBack read(stream);
-  if (vertex_count > 0) read.add(box, out.box.data(), 4);
-  if (triangle_count > 0) read.add(&max_radius, out.max_radius.data());
-  read.wait();
-  if (vertex_count == 0) {
-    scene_lo = scene_hi = Vec3{};
-    return;
-  }
+  if (vertex_count == 0) return;
+  double box[12];
+  for (int k = 0; k < 12; ++k) box[k] = from_order_key(k % 6 < 3 ? ~host.box[k] : host.box[k]);
+  const Vec3 lo_init{1e300, 1e300, 1e300}, hi_init{-1e300, -1e300, -1e300};
+  const Vec3 lo_t0{box[0], box[1], box[2]}, hi_t0{box[3], box[4], box[5]};
+  const Vec3 lo_t1{box[6], box[7], box[8]}, hi_t1{box[9], box[10], box[11]};
   // As compute_primitive_bounds: the box of both frames, widened by thickness and pad.
-  const Vec3 lo = min(box[0], box[2]), hi = max(box[1], box[3]);
+  const Vec3 lo = min(min(lo_init, lo_t0), min(lo_init, lo_t1)), hi = max(max(hi_init, hi_t0), max(hi_init, hi_t1));
   const Vec3 corners[2] = {lo, hi};
   const double w = thickness + rounding_pad(corners, 2);
-  scene_lo = lo - Vec3{w, w, w};
-  scene_hi = hi + Vec3{w, w, w};
-}
-
-FixedPointSum radius_sum_on_device(DevicePrimitiveBounds& bounds, std::size_t triangle_count, int shift,
-                                   cudaStream_t stream) {
-  FixedPointSum sum;
-  if (triangle_count == 0) return sum;
-  bounds.radius_sum.resize(1);
-  const auto quantized = thrust::make_transform_iterator(bounds.triangle_radii.data(), Quantize{shift});
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceReduce::Reduce(nullptr, bytes, quantized, bounds.radius_sum.data(), triangle_count,
-                                            FixedPointAdd{}, FixedPointSum{}, stream));
-  detail::ensure_scratch(bounds.temp, bytes);
-  bytes = bounds.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceReduce::Reduce(bounds.temp.data(), bytes, quantized, bounds.radius_sum.data(),
-                                            triangle_count, FixedPointAdd{}, FixedPointSum{}, stream));
-  bounds.radius_sum.download(&sum, 1);
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
-  return sum;
+  summary.scene_lo = lo - Vec3{w, w, w};
+  summary.scene_hi = hi + Vec3{w, w, w};
 }
 
 }  // namespace snag

@@ -2,13 +2,14 @@
 // libcd/bounding_volume/primitive_bounds.cpp: swept 18-DOPs of triangles,
 // edges and vertices and triangle sphere radii, one thread per primitive, with
 // the same SNAG_HD functions (so the same rounding pad and bits); the scene
-// box and the radii's maximum and exact fixed-point sum by CUB reductions
-// (min, max and integer addition do not depend on the reduction order).
+// box and the radii's maximum and exact fixed-point sum reduced by the same
+// kernels (min, max and integer addition do not depend on the order).
 #pragma once
 
 #include <cuda_runtime_api.h>
 
 #include <cstddef>
+#include <cstdint>
 
 #include "libcd/bounding_volume/dop18.hpp"
 #include "libcd/bounding_volume/float_box.hpp"
@@ -19,6 +20,23 @@
 
 namespace snag {
 
+/// The bounds kernels' reductions as they leave them on the device (zeroed
+/// before they run), each value an order key (primitive_bounds.cu): an
+/// integer that orders as the double does, maximized by atomics.
+struct BoundsReduction {
+  std::uint64_t box[12];     ///< lo (the keys' complements) then hi of x_t0, the same of x_t1; x, y, z each
+  std::uint64_t max_radius;  ///< the largest triangle radius
+  FixedPointSum radius_sum;  ///< the quantized radii's sum, with the shift of the largest (radius_sum.hpp)
+};
+
+/// What the bounds stage brings to the host.
+struct BoundsSummary {
+  Vec3 scene_lo, scene_hi;   ///< both frames' box, widened as compute_primitive_bounds widens it
+  double max_radius = 0;     ///< the largest triangle radius (0 without triangles)
+  FixedPointSum radius_sum;  ///< the radii's exact sum (when asked for)
+  int radius_shift = 0;      ///< its shift: radius_sum_shift(max_radius)
+};
+
 /// Device arrays of the bounds of one step (global ids, as PrimitiveBounds).
 struct DevicePrimitiveBounds {
   DeviceBuffer<Dop18> triangles;          ///< #F
@@ -28,10 +46,7 @@ struct DevicePrimitiveBounds {
   DeviceBuffer<FloatBox> edge_boxes;      ///< #E, float_box_of(edges[e]): the feature culling's first test
   DeviceBuffer<FloatBox> vertex_boxes;    ///< #V, float_box_of(vertices[v])
   DeviceBuffer<double> triangle_radii;    ///< #F, thickness included
-  DeviceBuffer<Vec3> box;                 ///< 4: lo/hi of x_t0, lo/hi of x_t1 (reduction results)
-  DeviceBuffer<double> max_radius;        ///< 1
-  DeviceBuffer<FixedPointSum> radius_sum; ///< 1
-  DeviceBuffer<unsigned char> temp;       ///< CUB scratch
+  DeviceBuffer<BoundsReduction> reduced;  ///< 1: the box, the largest radius and the radii's sum
 
   explicit DevicePrimitiveBounds(cudaStream_t stream)
       : triangles(0, stream),
@@ -41,31 +56,24 @@ struct DevicePrimitiveBounds {
         edge_boxes(0, stream),
         vertex_boxes(0, stream),
         triangle_radii(0, stream),
-        box(0, stream),
-        max_radius(0, stream),
-        radius_sum(0, stream),
-        temp(0, stream) {}
+        reduced(0, stream) {}
 };
 
-/// Computes the DOPs and radii of all primitives, their float boxes,
-/// the scene box (inflated by thickness and rounding pad exactly as
-/// compute_primitive_bounds) and the largest radius. Waits for the stream
-/// (the box and maximum come to the host).
+/// Computes the DOPs and radii of all primitives, their float boxes, the
+/// scene box (inflated by thickness and rounding pad exactly as
+/// compute_primitive_bounds), the largest radius and, with with_radius_sum,
+/// the exact sum of the radii (radius_sum.hpp, as the CPU's cell size takes
+/// it). Waits for the stream once (the summary comes to the host).
 /// @param triangles  #F device triangles; edges #E device edges
 /// @param x_t0, x_t1 #V device positions (the same pointer twice for static detection)
 /// @param thickness  ≥ 0, scene units
-/// @param[out] scene_lo, scene_hi, max_radius  host values
+/// @param[out] summary  host values
 /// @param check  told what the bounds' arrays add before they allocate (it may throw)
 /// Throws CudaError, or what `check` throws.
 void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t triangle_count, const Edge* edges,
                                         std::size_t edge_count, const Vec3* x_t0, const Vec3* x_t1,
-                                        std::size_t vertex_count, double thickness, DevicePrimitiveBounds& out,
-                                        cudaStream_t stream, Vec3& scene_lo, Vec3& scene_hi, double& max_radius,
+                                        std::size_t vertex_count, double thickness, bool with_radius_sum,
+                                        DevicePrimitiveBounds& out, cudaStream_t stream, BoundsSummary& summary,
                                         const GrowthCheck& check = {});
-
-/// The exact sum of the quantized triangle radii (radius_sum.hpp) for the
-/// given shift, by a device reduction; waits for the stream. Throws CudaError.
-FixedPointSum radius_sum_on_device(DevicePrimitiveBounds& bounds, std::size_t triangle_count, int shift,
-                                   cudaStream_t stream);
 
 }  // namespace snag

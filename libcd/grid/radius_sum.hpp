@@ -31,7 +31,7 @@ SNAG_HD_INLINE FixedPointSum operator+(FixedPointSum a, FixedPointSum b) {
 }
 
 /// The shift for radii whose largest value is max_radius (≥ 0): max_radius·2^shift < 2^62.
-inline int radius_sum_shift(double max_radius) {
+SNAG_HD_INLINE int radius_sum_shift(double max_radius) {
   if (!(max_radius > 0) || !std::isfinite(max_radius)) return 0;
   int exponent = 0;
   std::frexp(max_radius, &exponent);  // max_radius < 2^exponent

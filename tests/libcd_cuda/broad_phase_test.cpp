@@ -4,7 +4,8 @@
 // forcing time halving, thickness > 0, crowded cells (whole and in chunks), the
 // samples, and the reference frames cloth_ball92 -> 93; the same for the
 // adaptive grid, whose hierarchy of crowded cells is also compared cell by
-// cell with the CPU's. Also: the exact radius sum does not depend on order.
+// cell with the CPU's; a soup around the origin with signed zeros (the
+// bounds' reductions). Also: the exact radius sum does not depend on order.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -219,6 +220,27 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuWithFastMoversAndTimeHalving) {
               0u);
     expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kLargestTriangleGrid, {});
     EXPECT_GT(expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kAdaptiveGrid, {}), 0u);
+  }
+}
+
+// The scene box, the largest radius and the radii's sum, reduced in the
+// bounds kernels by atomics on order keys: a soup around the origin, with
+// coordinates of both signs, +0 and -0, on both frames.
+TEST_F(CudaBroadPhaseTest, MatchesCpuAroundTheOriginWithSignedZeros) {
+  for (unsigned seed : {31u, 32u}) {
+    Soup soup = random_soup(seed, 2000, true);
+    SCOPED_TRACE(seed);
+    for (std::vector<Vec3>* frame : {&soup.x_t0, &soup.x_t1}) {
+      for (std::size_t v = 0; v < frame->size(); ++v) {
+        Vec3& p = (*frame)[v];
+        p = p - Vec3{5, 5, 5};
+        if (v % 11 == 0) p.x = v % 22 == 0 ? 0.0 : -0.0;
+        if (v % 13 == 0) p.z = -0.0;
+      }
+    }
+    EXPECT_GT(expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kVirtualSubdivisionGrid, {}),
+              0u);
+    expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kLargestTriangleGrid, {});
   }
 }
 
