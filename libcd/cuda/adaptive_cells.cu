@@ -20,6 +20,7 @@ namespace {
 
 using detail::blocks_for;
 using detail::ensure_scratch;
+using detail::exclusive_scan;
 using detail::exclusive_sum;
 using detail::radix_bits;
 using detail::radix_sort_pairs;
@@ -207,16 +208,6 @@ __global__ void member_records_kernel(const std::uint32_t* member_leaves, std::s
   const FloatBox box = float_box_of(leaves[leaf].dop);
   members[m] = AdaptiveMember{t.root, t.slot_depth, t.slot_index, leaf, blocks[leaf],
                               {box.lo[0], box.lo[1], box.lo[2]}, {box.hi[0], box.hi[1], box.hi[2]}};
-}
-
-template <class T, class Op>
-void exclusive_scan(const T* in, T* out, std::size_t n, Op op, DeviceBuffer<unsigned char>& temp, cudaStream_t stream,
-                    const GrowthCheck& check) {
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveScan(nullptr, bytes, in, out, op, T{}, n, stream));
-  ensure_scratch(temp, bytes, check);
-  bytes = temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveScan(temp.data(), bytes, in, out, op, T{}, n, stream));
 }
 
 }  // namespace

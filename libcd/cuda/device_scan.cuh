@@ -32,6 +32,18 @@ void exclusive_sum(const T* in, T* out, std::size_t n, DeviceBuffer<unsigned cha
   SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(temp.data(), bytes, in, out, n, stream));
 }
 
+/// out[k] = in[0] op ... op in[k-1] for k < n (out[0] = T{}), in stream
+/// order; op is associative and T{} its identity. Throws CudaError.
+template <class T, class Op>
+void exclusive_scan(const T* in, T* out, std::size_t n, Op op, DeviceBuffer<unsigned char>& temp, cudaStream_t stream,
+                    const GrowthCheck& check = {}) {
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveScan(nullptr, bytes, in, out, op, T{}, n, stream));
+  ensure_scratch(temp, bytes, check);
+  bytes = temp.size();
+  SNAG_CUDA_CHECK(cub::DeviceScan::ExclusiveScan(temp.data(), bytes, in, out, op, T{}, n, stream));
+}
+
 /// Sorts the pairs (keys_in[k], values_in[k]), k < n, by bits [0, end_bit)
 /// of the keys into keys_out and values_out, stably, in stream order.
 /// Throws CudaError.

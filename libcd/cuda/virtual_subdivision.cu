@@ -18,7 +18,7 @@ namespace snag {
 namespace {
 
 using detail::blocks_for;
-using detail::exclusive_sum;
+using detail::exclusive_scan;
 using detail::thread_item;
 
 __device__ __forceinline__ bool is_leaf(SplitDecision d) {
@@ -43,44 +43,48 @@ __global__ void root_items_kernel(std::size_t n, DeviceLevelItem* items) {
   items[f].group_size = 1;
 }
 
-/// Pass 1: decision, home cell, child and leaf counts; level counters.
+struct AddTallies {
+  __device__ SplitTally operator()(const SplitTally& a, const SplitTally& b) const {
+    return {a.children + b.children, a.leaves + b.leaves, a.subdivided + b.subdivided, a.halved + b.halved,
+            a.oversized + b.oversized};
+  }
+};
+
+/// Pass 1: decision, home cell, and what the triangle adds (tally[n]: nothing).
 __global__ void examine_kernel(const DeviceLevelItem* items, std::size_t n, const Triangle* tris, const Vec3* x_t0,
                                const Vec3* x_t1, GridSpec grid, double thickness, std::uint32_t max_levels,
-                               std::uint32_t max_halvings, std::uint8_t* decision, CellCoord* home,
-                               std::uint64_t* child_count, std::uint64_t* leaf_count, unsigned long long* counters) {
+                               std::uint32_t max_halvings, std::uint8_t* decision, CellCoord* home, SplitTally* tally) {
   const std::uint64_t i = thread_item();
-  SplitDecision d = SplitDecision::kAccept;
+  if (i > n) return;
+  SplitTally t;
   if (i < n) {
-    const VirtualTriangle t = items[i].triangle;
+    const VirtualTriangle triangle = items[i].triangle;
     Vec3 p_t0[3], p_t1[3], points[6];
-    swept_points_of(t, tris, x_t0, x_t1, p_t0, p_t1, points);
+    swept_points_of(triangle, tris, x_t0, x_t1, p_t0, p_t1, points);
     const Sphere sphere = sphere_of_points(points, 6);
-    d = decide_split(t, points, sphere.radius, thickness, grid.cell_size, max_levels, max_halvings);
+    const SplitDecision d =
+        decide_split(triangle, points, sphere.radius, thickness, grid.cell_size, max_levels, max_halvings);
     decision[i] = static_cast<std::uint8_t>(d);
     home[i] = grid_cell_of(grid, sphere.centre);
-    child_count[i] = d == SplitDecision::kSubdivide ? 4 : (d == SplitDecision::kHalveTime ? 2 : 0);
-    leaf_count[i] = is_leaf(d) ? 1 : 0;
-  } else if (i == n) {
-    child_count[i] = 0;
-    leaf_count[i] = 0;
+    t.children = d == SplitDecision::kSubdivide ? 4 : (d == SplitDecision::kHalveTime ? 2 : 0);
+    t.leaves = is_leaf(d) ? 1 : 0;
+    t.subdivided = d == SplitDecision::kSubdivide;
+    t.halved = d == SplitDecision::kHalveTime;
+    t.oversized = d == SplitDecision::kAcceptOversized;
   }
-  const bool valid = i < n;
-  detail::warp_count(valid && d == SplitDecision::kSubdivide, &counters[0]);
-  detail::warp_count(valid && d == SplitDecision::kHalveTime, &counters[1]);
-  detail::warp_count(valid && d == SplitDecision::kAcceptOversized, &counters[2]);
+  tally[i] = t;
 }
 
 /// Pass 3: leaves and children, as the CPU's third pass.
 __global__ void write_kernel(const DeviceLevelItem* items, std::size_t n, const Triangle* tris, const Vec3* x_t0,
                              const Vec3* x_t1, GridSpec grid, double thickness, const std::uint8_t* decision,
-                             const CellCoord* home, const std::uint64_t* child_offset,
-                             const std::uint64_t* leaf_offset, Leaf* leaves, DeviceLevelItem* next) {
+                             const CellCoord* home, const SplitTally* offset, Leaf* leaves, DeviceLevelItem* next) {
   const std::uint64_t i = thread_item();
   if (i >= n) return;
   const DeviceLevelItem item = items[i];
   const SplitDecision d = static_cast<SplitDecision>(decision[i]);
   if (is_leaf(d)) {
-    Leaf& leaf = leaves[leaf_offset[i]];
+    Leaf& leaf = leaves[offset[i].leaves];
     leaf.triangle = item.triangle;
     Vec3 p_t0[3], p_t1[3], points[6];
     swept_points_of(item.triangle, tris, x_t0, x_t1, p_t0, p_t1, points);
@@ -100,12 +104,12 @@ __global__ void write_kernel(const DeviceLevelItem* items, std::size_t n, const 
   } else if (d == SplitDecision::kSubdivide) {
     VirtualTriangle child[4];
     loop_children(item.triangle, child);
-    const std::uint64_t o = child_offset[i];
+    const std::uint64_t o = offset[i].children;
     for (int q = 0; q < 4; ++q) next[o + q] = {child[q], static_cast<std::uint32_t>(o), 4};
   } else {
     VirtualTriangle child[2];
     halve_time(item.triangle, child);
-    const std::uint64_t o = child_offset[i];
+    const std::uint64_t o = offset[i].children;
     for (int h = 0; h < 2; ++h) next[o + h] = {child[h], static_cast<std::uint32_t>(o + h), 1};
   }
 }
@@ -119,44 +123,34 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
                                           std::vector<SubdivisionLevelCounts>& levels, const GrowthCheck& check) {
   levels.clear();
   std::size_t n = triangle_count, leaf_total_so_far = 0;
-  check_growth(check, b.items.growth_bytes(n) + b.counters.growth_bytes(3));
+  check_growth(check, b.items.growth_bytes(n));
   b.items.resize(n);
   if (n > 0) {
     root_items_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(n, b.items.data());
     SNAG_CUDA_CHECK_LAUNCH();
   }
-  b.counters.resize(3);
   while (n > 0) {
-    check_growth(check, b.decision.growth_bytes(n) + b.home.growth_bytes(n) + b.child_count.growth_bytes(n + 1) +
-                            b.leaf_count.growth_bytes(n + 1) + b.child_offset.growth_bytes(n + 1) +
-                            b.leaf_offset.growth_bytes(n + 1));
+    check_growth(check, b.decision.growth_bytes(n) + b.home.growth_bytes(n) + b.tally.growth_bytes(n + 1) +
+                            b.offset.growth_bytes(n + 1));
     b.decision.resize(n);
     b.home.resize(n);
-    b.child_count.resize(n + 1);
-    b.leaf_count.resize(n + 1);
-    b.child_offset.resize(n + 1);
-    b.leaf_offset.resize(n + 1);
-    b.counters.fill_zero();
+    b.tally.resize(n + 1);
+    b.offset.resize(n + 1);
     examine_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(
         b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, max_levels, max_halvings, b.decision.data(),
-        b.home.data(), b.child_count.data(), b.leaf_count.data(), b.counters.data());
+        b.home.data(), b.tally.data());
     SNAG_CUDA_CHECK_LAUNCH();
-    exclusive_sum(b.child_count.data(), b.child_offset.data(), n + 1, b.temp, stream, check);
-    exclusive_sum(b.leaf_count.data(), b.leaf_offset.data(), n + 1, b.temp, stream, check);
-    std::uint64_t child_total = 0, leaf_total = 0;
-    unsigned long long counters[3] = {0, 0, 0};
-    ReadBack(stream)
-        .add(&child_total, b.child_offset.data() + n)
-        .add(&leaf_total, b.leaf_offset.data() + n)
-        .add(counters, b.counters.data(), 3)
-        .wait();
+    exclusive_scan(b.tally.data(), b.offset.data(), n + 1, AddTallies{}, b.temp, stream, check);
+    SplitTally total;
+    ReadBack(stream).add(&total, b.offset.data() + n).wait();
+    const std::size_t child_total = total.children, leaf_total = total.leaves;
 
     SubdivisionLevelCounts counts;
     counts.triangles = n;
     counts.accepted = leaf_total;
-    counts.subdivided = counters[0];
-    counts.halved = counters[1];
-    counts.oversized = counters[2];
+    counts.subdivided = total.subdivided;
+    counts.halved = total.halved;
+    counts.oversized = total.oversized;
     levels.push_back(counts);
 
     // Room for this level's leaves after the previous ones (grow, keeping them).
@@ -165,8 +159,8 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
     check_growth(check, b.next.growth_bytes(child_total));
     b.next.resize(child_total);
     write_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(
-        b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, b.decision.data(), b.home.data(),
-        b.child_offset.data(), b.leaf_offset.data(), b.leaves.data() + leaf_total_so_far, b.next.data());
+        b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, b.decision.data(), b.home.data(), b.offset.data(),
+        b.leaves.data() + leaf_total_so_far, b.next.data());
     SNAG_CUDA_CHECK_LAUNCH();
     std::swap(b.items, b.next);
     leaf_total_so_far = leaf_end;

@@ -1,7 +1,7 @@
 // Virtual subdivision on the GPU, mirroring libcd/subdivision/virtual_subdivision.cpp:
 // level by level, one thread per virtual triangle decides (accept, Loop split,
-// time halving) and finds its home cell; prefix sums place children in the
-// next level's list and leaves after the previous levels' leaves; a second
+// time halving) and finds its home cell; one prefix sum places children in
+// the next level's list and leaves after the previous levels' leaves; a second
 // pass writes leaves (DOP, cells, control bits with siblings) and children.
 // Same order as the CPU, so the leaf list is identical.
 #pragma once
@@ -24,21 +24,34 @@ struct DeviceLevelItem {
   std::uint32_t group_size = 1;
 };
 
+/// What one virtual triangle of a level adds, and by an exclusive scan what
+/// those before it add: children and leaves (their places in the next list
+/// and after the earlier levels' leaves) and the level's counts.
+struct SplitTally {
+  std::uint64_t children = 0, leaves = 0;
+  std::uint64_t subdivided = 0, halved = 0, oversized = 0;
+};
+
 /// Buffers of the subdivision stage, reused across calls (they only grow).
 struct DeviceSubdivision {
   DeviceBuffer<DeviceLevelItem> items, next;
   DeviceBuffer<std::uint8_t> decision;
   DeviceBuffer<CellCoord> home;
-  DeviceBuffer<std::uint64_t> child_count, leaf_count;  ///< n+1 counts, scanned in place into offsets
-  DeviceBuffer<std::uint64_t> child_offset, leaf_offset;
-  DeviceBuffer<unsigned long long> counters;  ///< subdivided, halved, oversized of one level
+  DeviceBuffer<SplitTally> tally;   ///< n + 1 per level, the last zero
+  DeviceBuffer<SplitTally> offset;  ///< its exclusive scan: offset[n] is the level's whole tally
   DeviceBuffer<Leaf> leaves, spare;
   DeviceBuffer<unsigned char> temp;
 
   explicit DeviceSubdivision(cudaStream_t stream)
-      : items(0, stream), next(0, stream), decision(0, stream), home(0, stream), child_count(0, stream),
-        leaf_count(0, stream), child_offset(0, stream), leaf_offset(0, stream), counters(0, stream),
-        leaves(0, stream), spare(0, stream), temp(0, stream) {}
+      : items(0, stream),
+        next(0, stream),
+        decision(0, stream),
+        home(0, stream),
+        tally(0, stream),
+        offset(0, stream),
+        leaves(0, stream),
+        spare(0, stream),
+        temp(0, stream) {}
 };
 
 /// Subdivides every triangle as subdivide_virtually does; the leaves are left
