@@ -7,35 +7,21 @@
 // inside the kernels that compute the primitives' bounds (a block's values,
 // then one atomic per block and value), with one read-back: each a minimum,
 // maximum or integer sum, which no order changes. A double is reduced as its
-// order key, an integer that orders as the double does (a minimum as the
-// maximum of the keys' complements), so that 64-bit integer atomics take it.
+// order key (order_key.hpp; a minimum as the maximum of the keys'
+// complements), so that 64-bit integer atomics take it.
+#include "libcd/cuda/primitive_bounds.cuh"
+
 #include <algorithm>
-#include <cstring>
 
 #include "libcd/bounding_volume/primitive_bounds.hpp"
 #include "libcd/cuda/launch.cuh"
-#include "libcd/cuda/primitive_bounds.cuh"
+#include "libcd/geometry/order_key.hpp"
 
 namespace snag {
 namespace {
 
 using detail::blocks_for;
 using detail::thread_item;
-
-/// An integer that orders as the doubles do (-0 below +0; NaN is not ordered:
-/// positions are finite).
-SNAG_HD_INLINE std::uint64_t order_key(double d) {
-  std::uint64_t bits = 0;
-  std::memcpy(&bits, &d, sizeof bits);
-  return bits >> 63 ? ~bits : bits | (std::uint64_t{1} << 63);
-}
-
-SNAG_HD_INLINE double from_order_key(std::uint64_t key) {
-  const std::uint64_t bits = key >> 63 ? key & ~(std::uint64_t{1} << 63) : ~key;
-  double d = 0;
-  std::memcpy(&d, &bits, sizeof d);
-  return d;
-}
 
 /// Maximizes *to over the block's `count` keys per thread: each warp's
 /// maximum by shuffles, then the block's in shared memory, then one atomic
