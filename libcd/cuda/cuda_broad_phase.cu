@@ -367,9 +367,8 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   const DeviceSubdivision& s = b.subdivision;
   add("subdivision: leaves", s.leaves.capacity_bytes() + s.spare.capacity_bytes());
   add("subdivision: level lists", s.items.capacity_bytes() + s.next.capacity_bytes());
-  add("subdivision: decisions, counts, scratch", s.decision.capacity_bytes() + s.home.capacity_bytes() +
-                                                     s.tally.capacity_bytes() + s.offset.capacity_bytes() +
-                                                     s.temp.capacity_bytes());
+  add("subdivision: decisions, counts, scratch",
+      s.decision.capacity_bytes() + s.home.capacity_bytes() + s.tally.capacity_bytes() + s.temp.capacity_bytes());
   const DeviceCellLists& c = b.cells;
   add("registration: cell lists", c.cell_ids.capacity_bytes() + c.first.capacity_bytes() + c.leaves.capacity_bytes());
   add("registration: sort keys and values", c.keys.capacity_bytes() + c.keys_sorted.capacity_bytes() +

@@ -45,8 +45,7 @@ __global__ void root_items_kernel(std::size_t n, DeviceLevelItem* items) {
 
 struct AddTallies {
   __device__ SplitTally operator()(const SplitTally& a, const SplitTally& b) const {
-    return {a.children + b.children, a.leaves + b.leaves, a.subdivided + b.subdivided, a.halved + b.halved,
-            a.oversized + b.oversized};
+    return {a.children + b.children, a.leaves + b.leaves, a.halved + b.halved, a.oversized + b.oversized};
   }
 };
 
@@ -68,7 +67,6 @@ __global__ void examine_kernel(const DeviceLevelItem* items, std::size_t n, cons
     home[i] = grid_cell_of(grid, sphere.centre);
     t.children = d == SplitDecision::kSubdivide ? 4 : (d == SplitDecision::kHalveTime ? 2 : 0);
     t.leaves = is_leaf(d) ? 1 : 0;
-    t.subdivided = d == SplitDecision::kSubdivide;
     t.halved = d == SplitDecision::kHalveTime;
     t.oversized = d == SplitDecision::kAcceptOversized;
   }
@@ -130,25 +128,23 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
     SNAG_CUDA_CHECK_LAUNCH();
   }
   while (n > 0) {
-    check_growth(check, b.decision.growth_bytes(n) + b.home.growth_bytes(n) + b.tally.growth_bytes(n + 1) +
-                            b.offset.growth_bytes(n + 1));
+    check_growth(check, b.decision.growth_bytes(n) + b.home.growth_bytes(n) + b.tally.growth_bytes(n + 1));
     b.decision.resize(n);
     b.home.resize(n);
     b.tally.resize(n + 1);
-    b.offset.resize(n + 1);
     examine_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(
         b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, max_levels, max_halvings, b.decision.data(),
         b.home.data(), b.tally.data());
     SNAG_CUDA_CHECK_LAUNCH();
-    exclusive_scan(b.tally.data(), b.offset.data(), n + 1, AddTallies{}, b.temp, stream, check);
+    exclusive_scan(b.tally.data(), b.tally.data(), n + 1, AddTallies{}, b.temp, stream, check);
     SplitTally total;
-    ReadBack(stream).add(&total, b.offset.data() + n).wait();
+    ReadBack(stream).add(&total, b.tally.data() + n).wait();
     const std::size_t child_total = total.children, leaf_total = total.leaves;
 
     SubdivisionLevelCounts counts;
     counts.triangles = n;
     counts.accepted = leaf_total;
-    counts.subdivided = total.subdivided;
+    counts.subdivided = (total.children - 2 * total.halved) / 4;
     counts.halved = total.halved;
     counts.oversized = total.oversized;
     levels.push_back(counts);
@@ -159,7 +155,7 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
     check_growth(check, b.next.growth_bytes(child_total));
     b.next.resize(child_total);
     write_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(
-        b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, b.decision.data(), b.home.data(), b.offset.data(),
+        b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, b.decision.data(), b.home.data(), b.tally.data(),
         b.leaves.data() + leaf_total_so_far, b.next.data());
     SNAG_CUDA_CHECK_LAUNCH();
     std::swap(b.items, b.next);

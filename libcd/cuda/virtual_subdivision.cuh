@@ -24,12 +24,13 @@ struct DeviceLevelItem {
   std::uint32_t group_size = 1;
 };
 
-/// What one virtual triangle of a level adds, and by an exclusive scan what
-/// those before it add: children and leaves (their places in the next list
-/// and after the earlier levels' leaves) and the level's counts.
+/// What one virtual triangle of a level adds, and after an exclusive scan in
+/// place what those before it add: children and leaves (their places in the
+/// next list and after the earlier levels' leaves), time halvings and
+/// oversized leaves (the level's counts; Loop splits are the children that
+/// halvings leave, by four).
 struct SplitTally {
-  std::uint64_t children = 0, leaves = 0;
-  std::uint64_t subdivided = 0, halved = 0, oversized = 0;
+  std::uint64_t children = 0, leaves = 0, halved = 0, oversized = 0;
 };
 
 /// Buffers of the subdivision stage, reused across calls (they only grow).
@@ -37,8 +38,7 @@ struct DeviceSubdivision {
   DeviceBuffer<DeviceLevelItem> items, next;
   DeviceBuffer<std::uint8_t> decision;
   DeviceBuffer<CellCoord> home;
-  DeviceBuffer<SplitTally> tally;   ///< n + 1 per level, the last zero
-  DeviceBuffer<SplitTally> offset;  ///< its exclusive scan: offset[n] is the level's whole tally
+  DeviceBuffer<SplitTally> tally;  ///< n + 1 per level, the last zero; scanned in place: tally[n] is the level's sum
   DeviceBuffer<Leaf> leaves, spare;
   DeviceBuffer<unsigned char> temp;
 
@@ -48,7 +48,6 @@ struct DeviceSubdivision {
         decision(0, stream),
         home(0, stream),
         tally(0, stream),
-        offset(0, stream),
         leaves(0, stream),
         spare(0, stream),
         temp(0, stream) {}
