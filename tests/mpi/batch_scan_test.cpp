@@ -1,22 +1,15 @@
 // The batch list and the split of its scenes over ranks, against hand-made
 // lists and hand-worked assignments.
 #include <gtest/gtest.h>
-#include <stdlib.h>
 
-#include <filesystem>
 #include <fstream>
 
 #include "libcd/core/error.hpp"
+#include "tests/tools/run_process.hpp"
 #include "tools/common/batch_scan.hpp"
 
 namespace snag::tools {
 namespace {
-
-std::string temporary_dir() {
-  std::string dir = ::testing::TempDir() + "batch_scan_XXXXXX";
-  if (!mkdtemp(dir.data())) throw std::runtime_error("mkdtemp");
-  return dir;
-}
 
 std::string write(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
@@ -39,7 +32,8 @@ TEST(AssignBySize, MoreRanksThanScenesLeavesRanksIdleAndEqualSizesKeepListOrder)
 }
 
 TEST(ReadBatchList, SkipsCommentsAndTakesPathsFromTheListsDirectory) {
-  const std::string dir = temporary_dir();
+  const test::TemporaryDirectory temporary;
+  const std::string dir = temporary.path();
   const std::string list = write(dir + "/list.txt", "# shots\n\n  shot_a/scene.yaml  \n/abs/cloth_%04d.obj\r\n");
   const auto scenes = read_batch_list(list, "out");
   ASSERT_EQ(scenes.size(), 2u);
@@ -53,7 +47,8 @@ TEST(ReadBatchList, SkipsCommentsAndTakesPathsFromTheListsDirectory) {
 }
 
 TEST(ReadBatchList, RejectsTwoScenesOfOneReportNameAndAnEmptyList) {
-  const std::string dir = temporary_dir();
+  const test::TemporaryDirectory temporary;
+  const std::string dir = temporary.path();
   const std::string clash = write(dir + "/clash.txt", "a/scene.yaml\nb/scene.yaml\n");
   try {
     read_batch_list(clash, "out");

@@ -19,6 +19,7 @@
 #include "libcd/pipeline/pair_thickness.hpp"
 #include "report/report_sink.hpp"
 #include "report/scan_part.hpp"
+#include "tests/tools/run_process.hpp"
 #include "tools/common/range_scan.hpp"
 #include "tools/common/rule_options.hpp"
 #include "tools/common/scan_stats.hpp"
@@ -154,12 +155,6 @@ class SlowCopy {
   std::atomic<std::size_t> waits_{0}, pieces_{0};
 };
 
-std::string temporary_dir() {
-  std::string dir = ::testing::TempDir() + "range_scan_XXXXXX";
-  if (!mkdtemp(dir.data())) throw std::runtime_error("mkdtemp");
-  return dir;
-}
-
 struct Scanned {
   std::string report;
   std::string stages_json;
@@ -247,7 +242,8 @@ class SplitScan : public ::testing::Test {
 
   void expect_split_gives_whole(std::size_t parts, bool following = false, double merge_cost = 0) {
     const Scanned whole = scan_whole();
-    const Scanned split = scan_split(parts, temporary_dir(), following, merge_cost);
+    const test::TemporaryDirectory temporary;
+    const Scanned split = scan_split(parts, temporary.path(), following, merge_cost);
     EXPECT_EQ(split.stages_json, whole.stages_json);
     EXPECT_EQ(split.report, whole.report);
   }
@@ -272,7 +268,8 @@ class SplitScan : public ::testing::Test {
 
 TEST_F(SplitScan, ThreeRangesGiveTheSingleScanReport) {
   const Scanned whole = scan_whole();
-  const std::string dir = temporary_dir();
+  const test::TemporaryDirectory temporary;
+  const std::string dir = temporary.path();
   const Scanned split = scan_split(3, dir);
   EXPECT_GT(redecided_, 0u);
   // The report's own check that the cap was crossed and that tracks crossed the ranges' boundaries.
@@ -340,7 +337,8 @@ TEST_F(SplitScan, JoinRefusesADigestWithoutTheEventsItLists) {
 // instead of waiting for ever.
 TEST_F(SplitScan, PartFollowedToAnEarlyEndIsTruncated) {
   open("20:24");
-  const std::string dir = temporary_dir();
+  const test::TemporaryDirectory temporary;
+  const std::string dir = temporary.path();
   const std::string path = dir + "/part-1";
   write_second_half(path);
   report::ReportSink sink(source_->scene(), header_, *rules_, nullptr);
@@ -375,7 +373,8 @@ TEST_F(SplitScan, MoreRangesThanStepsGiveTheSingleScanReport) {
 
 TEST_F(SplitScan, TruncatedPartIsRejectedWithItsName) {
   open("20:24");
-  const std::string dir = temporary_dir();
+  const test::TemporaryDirectory temporary;
+  const std::string dir = temporary.path();
   const std::string path = dir + "/part-1";
   write_second_half(path);
   std::string bytes;
