@@ -247,8 +247,8 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
     side.boxes[k] = triangle_boxes[source.members[begin + k].root];
 }
 
-/// The tests of a chunk, tile by tile: each block strides over runs of kTileRun
-/// tiles (grid/pair_index.hpp), finds a tile's cell by a galloping search from
+/// The tests of a chunk, tile by tile (first_tile[cells] of them, read on the
+/// device): each block strides over runs of kTileRun tiles (grid/pair_index.hpp), finds a tile's cell by a galloping search from
 /// its last one (the block's tiles ascend), reads the tile's rows and columns
 /// and their roots' float boxes into shared memory, and its threads run the
 /// tile's tests, row by row, with the CPU's filters in the CPU's order (the
@@ -267,7 +267,7 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// round of a tile, so warp-wide operations see full warps.
 template <class Cells>
 __global__ void __launch_bounds__(detail::kBlockSize)
-    test_kernel(std::uint64_t tiles, const std::uint64_t* first_tile, std::size_t cells, const std::uint64_t* row_begin,
+    test_kernel(const std::uint64_t* first_tile, std::size_t cells, const std::uint64_t* row_begin,
                 const std::uint64_t* row_end, Cells source, const Dop18* triangle_dops, const FloatBox* triangle_boxes,
                 std::uint32_t range_first, std::uint32_t range_end, std::uint32_t bucket_width, int key_bits,
                 unsigned* histogram, std::uint64_t* kept, std::uint64_t kept_capacity, bool count_culled,
@@ -275,6 +275,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
   using Member = typename Cells::TileMember;
   using Cell = typename Cells::Cell;
   using Side = TileSide<Cells>;
+  const std::uint64_t tiles = first_tile[cells];
   __shared__ unsigned block_histogram[kHistogramBuckets];
   // Raw storage: shared variables take no initializers, and the records have them.
   __shared__ alignas(alignof(Side)) unsigned char side_storage[2 * sizeof(Side)];
@@ -576,8 +577,10 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
   // their counts.
   struct Numbered {
     std::uint64_t tests = 0, tiles = 0;
+    bool known = false;  ///< read back (else only on the device, in test_total and first_tile[cells])
   };
-  auto number_tests = [&](RootRange range) {
+  // `read`: wait for the counts; else they are read with the first pass's counters.
+  auto number_tests = [&](RootRange range, bool read) {
     number_rows(range);
     std::size_t bytes = 0;
     SNAG_CUDA_CHECK(
@@ -588,21 +591,25 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
         cub::DeviceReduce::Sum(p.temp.data(), bytes, p.cell_tests.data(), p.test_total.data(), cells + 1, stream));
     exclusive_sum(p.cell_tiles.data(), p.first_tile.data(), cells + 1, p.temp, stream);
     Numbered counts;
+    if (!read) return counts;
     ReadBack(stream).add(&counts.tests, p.test_total.data()).add(&counts.tiles, p.first_tile.data() + cells).wait();
+    counts.known = true;
     return counts;
   };
-  const Numbered whole_set = number_tests({0, triangle_end});
-  const std::uint64_t all_tests = whole_set.tests;
-  stats.tests = all_tests;
 
   // The key room of this call; buffers a larger room left are given back.
+  // With room for the keys kept from an earlier call, the whole set's counts
+  // are read back with its first pass's counters instead of before it: the
+  // first pass runs in that room, and again in a larger one (below) when
+  // more are kept. (For the benchmark's culled keys, the counts size their room.)
   const std::size_t key_room = std::max<std::size_t>(plan.key_room, 1);
   if (p.kept.capacity() > key_room) p.kept.release();
-  if (p.sorted.capacity() > key_room) p.sorted.release();
-  if (p.pairs.capacity() > key_room) p.pairs.release();
   std::deque<RootRange> todo(plan.ranges.begin(), plan.ranges.end());
   if (todo.empty() || todo.front().first != 0 || todo.back().end != triangle_end) todo.assign(1, {0, triangle_end});
   plan.ranges.clear();
+  Numbered whole_set = number_tests({0, triangle_end}, p.kept.capacity() == 0 || count_culled || todo.size() > 1);
+  if (p.sorted.capacity() > key_room) p.sorted.release();
+  if (p.pairs.capacity() > key_room) p.pairs.release();
 
   // As many blocks as the device holds at once (the kernel strides).
   int device = 0, sms = 0, per_sm = 0;
@@ -613,8 +620,12 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
   // A warp's per-thread counts are summed in 32 bits: at most 2^27 rounds, a
   // tile's rounds at most kPairTileSide² / kBlockSize.
   const std::uint64_t rounds_per_tile = (kPairTileSide * kPairTileSide + detail::kBlockSize - 1) / detail::kBlockSize;
-  if ((whole_set.tiles / resident_blocks + kTileRun) * rounds_per_tile >= (std::uint64_t{1} << 27))
-    throw CudaError("broad phase: too many pair tests for one launch", 0);
+  // (Checked after the pass when the counts come with it: its results are then not used.)
+  auto check_rounds = [&](const Numbered& whole) {
+    if ((whole.tiles / resident_blocks + kTileRun) * rounds_per_tile >= (std::uint64_t{1} << 27))
+      throw CudaError("broad phase: too many pair tests for one launch", 0);
+  };
+  if (whole_set.known) check_rounds(whole_set);
 
   unsigned long long totals[kCounters] = {};
   std::size_t kept_total = 0, unique_total = 0, culled_total = 0, culled_unique_total = 0;
@@ -624,7 +635,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
   std::vector<unsigned> histogram(kHistogramBuckets);
   double seconds = 0;
   std::size_t culled_room =
-      count_culled ? std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(all_tests, 1 << 18)) : 0;
+      count_culled ? std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(whole_set.tests, 1 << 18)) : 0;
   RootRange numbered_range{0, triangle_end};  // the range first_tile and test_total hold now
   Numbered range_counts = whole_set;          // and its tests and tiles
   while (!todo.empty()) {
@@ -634,35 +645,45 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
     CudaEvent start, done;
     start.record(stream);
     if (range.first != numbered_range.first || range.end != numbered_range.end) {
-      range_counts = number_tests(range);
+      range_counts = number_tests(range, true);
       numbered_range = range;
     }
     const std::uint64_t range_tests = range_counts.tests;
     // Room: for the whole set what the last pass needed, at least a share of
     // the tests; for a planned or split range all of key_room (it was sized
-    // to hold it); never more than key_room or the range's tests.
+    // to hold it); never more than key_room or the range's tests (when known).
     const bool whole = range.first == 0 && range.end == triangle_end;
-    const std::size_t kept_room = std::min<std::uint64_t>(
-        {key_room, std::max<std::uint64_t>(range_tests, 1),
-         whole ? std::max<std::uint64_t>(p.kept.capacity(), std::min<std::uint64_t>(range_tests, 1 << 20))
-               : key_room});
+    const std::size_t kept_room =
+        !range_counts.known
+            ? p.kept.capacity()
+            : std::min<std::uint64_t>(
+                  {key_room, std::max<std::uint64_t>(range_tests, 1),
+                   whole ? std::max<std::uint64_t>(p.kept.capacity(), std::min<std::uint64_t>(range_tests, 1 << 20))
+                         : key_room});
     p.kept.resize(kept_room);
     p.culled.resize(culled_room);
     p.counters.fill_zero();
     p.histogram.fill_zero();
     unsigned long long counts[kCounters] = {};
-    if (range_tests > 0) {
+    if (range_tests > 0 || !range_counts.known) {
       const std::uint64_t blocks =
-          std::min<std::uint64_t>((range_counts.tiles + kTileRun - 1) / kTileRun, resident_blocks);
+          range_counts.known ? std::min<std::uint64_t>((range_counts.tiles + kTileRun - 1) / kTileRun, resident_blocks)
+                             : resident_blocks;
       test_kernel<Cells><<<static_cast<unsigned>(blocks), detail::kBlockSize, 0, stream>>>(
-          range_counts.tiles, p.first_tile.data(), cells, p.row_begin.data(), p.row_end.data(), source, triangle_dops,
-          triangle_boxes, range.first, range.end, bucket_width, key_bits, p.histogram.data(), p.kept.data(), kept_room,
-          count_culled, p.culled.data(), culled_room, p.counters.data());
+          p.first_tile.data(), cells, p.row_begin.data(), p.row_end.data(), source, triangle_dops, triangle_boxes,
+          range.first, range.end, bucket_width, key_bits, p.histogram.data(), p.kept.data(), kept_room, count_culled,
+          p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();
-      ReadBack(stream)
-          .add(counts, p.counters.data(), kCounters)
-          .add(histogram.data(), p.histogram.data(), kHistogramBuckets)
-          .wait();
+      ReadBack read(stream);
+      read.add(counts, p.counters.data(), kCounters).add(histogram.data(), p.histogram.data(), kHistogramBuckets);
+      if (!range_counts.known)
+        read.add(&range_counts.tests, p.test_total.data()).add(&range_counts.tiles, p.first_tile.data() + cells);
+      read.wait();
+      if (!range_counts.known) {
+        range_counts.known = true;
+        whole_set = range_counts;
+        check_rounds(whole_set);
+      }
     }
     if (count_culled && counts[kCulled] > culled_room) {  // the benchmark's culled keys: grow, run again
       culled_room = counts[kCulled];
@@ -707,6 +728,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
     plan.ranges.push_back(range);
     visit(p.pairs.data(), kept_unique);
   }
+  stats.tests = whole_set.tests;
   stats.same_root_tests = totals[kSameRoot];
   stats.removed_by_time_slots = totals[kTimeSlots];
   stats.removed_by_control_bits = totals[kControlBits];
