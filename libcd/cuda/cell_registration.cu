@@ -3,12 +3,10 @@
 // Grand, "Broad-phase collision detection with CUDA", GPU Gems 3 ch. 32, 2007
 // (cell-object array, radix sort by cell id); Wong, Leach, Zambetta, virtual
 // subdivision chapter, section 5.3.3 (one sort, one scan, home priority).
-// Primitives: CUB DeviceScan, DeviceRadixSort (stable), DeviceSelect, DeviceRunLengthEncode.
+// Primitives: CUB DeviceScan, DeviceRadixSort (stable).
 #include "libcd/cuda/cell_registration.cuh"
 
-#include <cub/device/device_run_length_encode.cuh>
 #include <cub/device/device_scan.cuh>
-#include <cub/device/device_select.cuh>
 
 #include <algorithm>
 
@@ -19,7 +17,7 @@ namespace snag {
 namespace {
 
 using detail::blocks_for;
-using detail::ensure_scratch;
+using detail::exclusive_scan;
 using detail::exclusive_sum;
 using detail::radix_bits;
 using detail::radix_sort_pairs;
@@ -43,12 +41,22 @@ __global__ void fill_kernel(const Leaf* leaves, std::size_t n, GridSpec grid, co
   }
 }
 
-/// The scan: the head of each run of one unit in one cell marks its first
-/// home registration, else itself (as the CPU's); keep is zeroed before.
+struct AddRegistrationTallies {
+  __device__ RegistrationTally operator()(const RegistrationTally& a, const RegistrationTally& b) const {
+    return {a.kept + b.kept, a.cells + b.cells};
+  }
+};
+
+/// The scan: the head of each run of one unit in one cell keeps its first
+/// home registration, else itself (as the CPU's); and each registration
+/// that starts a run of one cell id counts a cell. `tally` is zeroed before;
+/// a run's head writes the kept count, each registration its own cell count
+/// (other words: no two threads write one).
 __global__ void keep_kernel(const Leaf* leaves, GridSpec grid, const std::uint64_t* keys, const std::uint32_t* values,
-                            std::size_t total, std::uint8_t* keep) {
+                            std::size_t total, RegistrationTally* tally) {
   const std::uint64_t i = thread_item();
   if (i >= total) return;
+  if (i == 0 || keys[i] != keys[i - 1]) tally[i].cells = 1;
   auto same_run = [&](std::uint64_t p, std::uint64_t q) {
     return keys[p] == keys[q] && same_unit(leaves[values[p]].triangle, leaves[values[q]].triangle);
   };
@@ -60,12 +68,29 @@ __global__ void keep_kernel(const Leaf* leaves, GridSpec grid, const std::uint64
       break;
     }
   }
-  keep[chosen] = 1;
+  tally[chosen].kept = 1;
 }
 
-__global__ void first_kernel(std::uint64_t* run_length, std::size_t cells) {
-  // run_length[cells] = 0 so that the exclusive sum's last entry is the total.
-  if (thread_item() == 0) run_length[cells] = 0;
+/// The cell lists from the scanned tallies of `total` sorted registrations
+/// (each cell id has a kept registration: every run of one unit keeps one):
+/// the kept leaf ids in order, each cell's id and its first kept leaf, and
+/// first[cells] = the kept count.
+__global__ void compact_kernel(const std::uint64_t* keys, const std::uint32_t* values, std::size_t total,
+                               const RegistrationTally* offset, std::uint32_t* leaves, std::uint64_t* cell_ids,
+                               std::uint64_t* first) {
+  const std::uint64_t i = thread_item();
+  if (i > total) return;
+  const RegistrationTally at = offset[i];
+  if (i == total) {
+    first[at.cells] = at.kept;
+    return;
+  }
+  const RegistrationTally next = offset[i + 1];
+  if (next.kept != at.kept) leaves[at.kept] = values[i];
+  if (next.cells != at.cells) {
+    cell_ids[at.cells] = keys[i];
+    first[at.cells] = at.kept;
+  }
 }
 
 }  // namespace
@@ -81,16 +106,13 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   if (n == 0) return;
 
   // Registration: one item per cell of each leaf's block.
-  check_growth(check, g.block_count.growth_bytes(n + 1) + g.offset.growth_bytes(n + 1));
-  g.block_count.resize(n + 1);
+  check_growth(check, g.offset.growth_bytes(n + 1));
   g.offset.resize(n + 1);
-  block_count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(leaves, n, g.block_count.data());
+  block_count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(leaves, n, g.offset.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  exclusive_sum(g.block_count.data(), g.offset.data(), n + 1, g.temp, stream, check);
+  exclusive_sum(g.offset.data(), g.offset.data(), n + 1, g.temp, stream, check);
   std::uint64_t total = 0;
-  SNAG_CUDA_CHECK(
-      cudaMemcpyAsync(&total, g.offset.data() + n, sizeof(std::uint64_t), cudaMemcpyDeviceToHost, stream));
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+  ReadBack(stream).add(&total, g.offset.data() + n).wait();
   counts.registrations = total;
   counts.home = n;
   counts.phantom = total - n;
@@ -112,61 +134,29 @@ void register_leaves_on_device(const Leaf* leaves, std::size_t n, const GridSpec
   radix_sort_pairs(g.keys.data(), g.keys_sorted.data(), g.values.data(), g.values_sorted.data(), total,
                    radix_bits(max_id), g.temp, stream, check);
 
-  // One scan removing duplicate registrations (home priority).
-  check_growth(check, g.keep.growth_bytes(total));
-  g.keep.resize(total);
-  g.keep.fill_zero();
+  // One scan removing duplicate registrations (home priority) and counting
+  // cells, one read of the counts, one pass writing the lists.
+  check_growth(check, g.tally.growth_bytes(total + 1));
+  g.tally.resize(total + 1);
+  g.tally.fill_zero();
   keep_kernel<<<blocks_for(total), detail::kBlockSize, 0, stream>>>(leaves, grid, g.keys_sorted.data(),
-                                                                    g.values_sorted.data(), total, g.keep.data());
+                                                                    g.values_sorted.data(), total, g.tally.data());
   SNAG_CUDA_CHECK_LAUNCH();
-
-  // Compaction of keys and leaf ids.
-  check_growth(check, g.kept_keys.growth_bytes(total) + g.leaves.growth_bytes(total) + g.selected.growth_bytes(2));
-  g.kept_keys.resize(total);
-  g.leaves.resize(total);
-  g.selected.resize(2);
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(nullptr, bytes, g.keys_sorted.data(), g.keep.data(), g.kept_keys.data(),
-                                             g.selected.data(), total, stream));
-  ensure_scratch(g.temp, bytes, check);
-  bytes = g.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(g.temp.data(), bytes, g.keys_sorted.data(), g.keep.data(),
-                                             g.kept_keys.data(), g.selected.data(), total, stream));
-  bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(nullptr, bytes, g.values_sorted.data(), g.keep.data(), g.leaves.data(),
-                                             g.selected.data(), total, stream));
-  ensure_scratch(g.temp, bytes, check);
-  bytes = g.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(g.temp.data(), bytes, g.values_sorted.data(), g.keep.data(),
-                                             g.leaves.data(), g.selected.data(), total, stream));
-  unsigned long long kept = 0;
-  g.selected.download(&kept, 1);
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
-  counts.kept = kept;
-  counts.duplicates_removed = total - kept;
-  g.leaves.resize(kept);
-
-  // The cells: runs of equal cell id, and their offsets.
-  check_growth(check, g.cell_ids.growth_bytes(kept) + g.run_length.growth_bytes(kept + 1));
-  g.cell_ids.resize(kept);
-  g.run_length.resize(kept + 1);
-  bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(nullptr, bytes, g.kept_keys.data(), g.cell_ids.data(),
-                                                     g.run_length.data(), g.selected.data() + 1, kept, stream));
-  ensure_scratch(g.temp, bytes, check);
-  bytes = g.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceRunLengthEncode::Encode(g.temp.data(), bytes, g.kept_keys.data(), g.cell_ids.data(),
-                                                     g.run_length.data(), g.selected.data() + 1, kept, stream));
-  unsigned long long cells = 0;
-  SNAG_CUDA_CHECK(cudaMemcpyAsync(&cells, g.selected.data() + 1, sizeof(cells), cudaMemcpyDeviceToHost, stream));
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
-  g.cells = cells;
-  g.cell_ids.resize(cells);
-  first_kernel<<<1, 1, 0, stream>>>(g.run_length.data(), cells);
+  exclusive_scan(g.tally.data(), g.tally.data(), total + 1, AddRegistrationTallies{}, g.temp, stream, check);
+  RegistrationTally kept;
+  ReadBack(stream).add(&kept, g.tally.data() + total).wait();
+  counts.kept = kept.kept;
+  counts.duplicates_removed = total - kept.kept;
+  check_growth(check, g.leaves.growth_bytes(kept.kept) + g.cell_ids.growth_bytes(kept.cells) +
+                          g.first.growth_bytes(kept.cells + 1));
+  g.leaves.resize(kept.kept);
+  g.cell_ids.resize(kept.cells);
+  g.first.resize(kept.cells + 1);
+  g.cells = kept.cells;
+  compact_kernel<<<blocks_for(total + 1), detail::kBlockSize, 0, stream>>>(g.keys_sorted.data(), g.values_sorted.data(),
+                                                                           total, g.tally.data(), g.leaves.data(),
+                                                                           g.cell_ids.data(), g.first.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  check_growth(check, g.first.growth_bytes(cells + 1));
-  g.first.resize(cells + 1);
-  exclusive_sum(g.run_length.data(), g.first.data(), cells + 1, g.temp, stream, check);
 }
 
 }  // namespace snag

@@ -2,8 +2,8 @@
 // libcd/grid/cell_registration.cpp: one (cell id, leaf id) item per cell of
 // each leaf's block, ONE stable radix sort by cell id (items are generated in
 // leaf order, so the order is (cell, leaf), as the CPU's sort), one scan that
-// keeps one registration per (root, slot) unit per cell with home priority,
-// compaction, and the cell runs.
+// keeps one registration per (root, slot) unit per cell with home priority
+// and counts the cell runs, and one pass writing the lists.
 #pragma once
 
 #include <cuda_runtime_api.h>
@@ -16,6 +16,13 @@
 
 namespace snag {
 
+/// What registration i adds to the cell lists: itself when kept, a cell
+/// when it starts a run of one cell id; after an exclusive scan in place, the
+/// kept registrations and the cells before it.
+struct RegistrationTally {
+  std::uint64_t kept = 0, cells = 0;
+};
+
 /// The grid after registration, on the device (as CellLists), and scratch.
 struct DeviceCellLists {
   DeviceBuffer<std::uint64_t> cell_ids;  ///< #C used cell ids, ascending
@@ -23,16 +30,22 @@ struct DeviceCellLists {
   DeviceBuffer<std::uint32_t> leaves;    ///< kept leaf ids, cell by cell
   std::size_t cells = 0;
   // scratch
-  DeviceBuffer<std::uint64_t> block_count, offset, keys, keys_sorted, kept_keys, run_length;
+  DeviceBuffer<std::uint64_t> offset, keys, keys_sorted;  ///< offset: each leaf's first registration
   DeviceBuffer<std::uint32_t> values, values_sorted;
-  DeviceBuffer<std::uint8_t> keep;
-  DeviceBuffer<unsigned long long> selected;  ///< 2: kept registrations, cells
+  DeviceBuffer<RegistrationTally> tally;  ///< per sorted registration, scanned in place
   DeviceBuffer<unsigned char> temp;
 
   explicit DeviceCellLists(cudaStream_t stream)
-      : cell_ids(0, stream), first(0, stream), leaves(0, stream), block_count(0, stream), offset(0, stream),
-        keys(0, stream), keys_sorted(0, stream), kept_keys(0, stream), run_length(0, stream), values(0, stream),
-        values_sorted(0, stream), keep(0, stream), selected(0, stream), temp(0, stream) {}
+      : cell_ids(0, stream),
+        first(0, stream),
+        leaves(0, stream),
+        offset(0, stream),
+        keys(0, stream),
+        keys_sorted(0, stream),
+        values(0, stream),
+        values_sorted(0, stream),
+        tally(0, stream),
+        temp(0, stream) {}
 };
 
 /// Registers leaf_count device leaves as register_leaves does; counts as the CPU's.

@@ -228,8 +228,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   plan_->key_room = key_room;
   // Buffers a larger room of an earlier call left are given back.
   DeviceFeatures& f = b.features;
-  for (DeviceBuffer<std::uint64_t>* per_pair : {&f.vf_count, &f.ee_count, &f.vf_offset, &f.ee_offset})
-    if (per_pair->capacity() > 0 && per_pair->capacity() - 1 > key_room) per_pair->release();  // n + 1 for n pairs
+  if (f.tally.capacity() > 0 && f.tally.capacity() - 1 > key_room) f.tally.release();  // n + 1 for n pairs
   if (f.kept.capacity() > key_room) f.kept.release();
   for (DeviceBuffer<std::uint64_t>* keys : {&f.vf_keys, &f.ee_keys, &f.vf_sorted, &f.ee_sorted})
     if (keys->capacity() > candidate_room_) keys->release();
@@ -372,11 +371,9 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   const DeviceCellLists& c = b.cells;
   add("registration: cell lists", c.cell_ids.capacity_bytes() + c.first.capacity_bytes() + c.leaves.capacity_bytes());
   add("registration: sort keys and values", c.keys.capacity_bytes() + c.keys_sorted.capacity_bytes() +
-                                                c.kept_keys.capacity_bytes() + c.values.capacity_bytes() +
-                                                c.values_sorted.capacity_bytes());
-  add("registration: counts, flags, scratch",
-      c.block_count.capacity_bytes() + c.offset.capacity_bytes() + c.run_length.capacity_bytes() +
-          c.keep.capacity_bytes() + c.selected.capacity_bytes() + c.temp.capacity_bytes());
+                                                c.values.capacity_bytes() + c.values_sorted.capacity_bytes());
+  add("registration: offsets, tallies, scratch",
+      c.offset.capacity_bytes() + c.tally.capacity_bytes() + c.temp.capacity_bytes());
   const DevicePairs& p = b.pairs;
   const DeviceAdaptiveCells& a = b.adaptive;
   add("adaptive: fine blocks and leaf DOPs", a.blocks.capacity_bytes() + a.leaf_dops.capacity_bytes());
@@ -393,9 +390,7 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   add("pairs: counters, histogram, scratch",
       p.counters.capacity_bytes() + p.histogram.capacity_bytes() + p.temp.capacity_bytes());
   const DeviceFeatures& f = b.features;
-  add("features: counts, offsets and kept bits (chunk)", f.vf_count.capacity_bytes() + f.ee_count.capacity_bytes() +
-                                                             f.vf_offset.capacity_bytes() +
-                                                             f.ee_offset.capacity_bytes() + f.kept.capacity_bytes());
+  add("features: tallies and kept bits (chunk)", f.tally.capacity_bytes() + f.kept.capacity_bytes());
   add("features: keys (part)", f.vf_keys.capacity_bytes() + f.ee_keys.capacity_bytes() +
                                    f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes());
   add("features: candidates (part)", f.vf.capacity_bytes() + f.ee.capacity_bytes());
@@ -425,21 +420,17 @@ std::size_t CudaBroadPhase::chunk_bytes() const {
   const DevicePairs& p = buffers_->pairs;
   const DeviceFeatures& f = buffers_->features;
   return p.kept.capacity_bytes() + p.sorted.capacity_bytes() + p.pairs.capacity_bytes() + p.cell_test_bytes() +
-         f.vf_count.capacity_bytes() + f.ee_count.capacity_bytes() + f.vf_offset.capacity_bytes() +
-         f.ee_offset.capacity_bytes() + f.kept.capacity_bytes() + f.vf_keys.capacity_bytes() +
-         f.ee_keys.capacity_bytes() + f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes() +
-         f.vf.capacity_bytes() + f.ee.capacity_bytes();
+         f.tally.capacity_bytes() + f.kept.capacity_bytes() + f.vf_keys.capacity_bytes() + f.ee_keys.capacity_bytes() +
+         f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes() + f.vf.capacity_bytes() + f.ee.capacity_bytes();
 }
 
 void CudaBroadPhase::release_stage_buffers() {
   CudaBroadPhaseBuffers& b = *buffers_;
   b.subdivision = DeviceSubdivision(stream_);
   DeviceCellLists& c = b.cells;  // cell_ids and first stay: the tests read them
-  for (DeviceBuffer<std::uint64_t>* scratch :
-       {&c.block_count, &c.offset, &c.keys, &c.keys_sorted, &c.kept_keys, &c.run_length})
-    scratch->release();
+  for (DeviceBuffer<std::uint64_t>* scratch : {&c.offset, &c.keys, &c.keys_sorted}) scratch->release();
   for (DeviceBuffer<std::uint32_t>* scratch : {&c.values, &c.values_sorted, &c.leaves}) scratch->release();
-  c.keep.release();
+  c.tally.release();
   c.temp.release();
   b.adaptive.release_scratch();
   b.pairs.order_keys.release();

@@ -19,7 +19,7 @@ namespace snag {
 namespace {
 
 using detail::blocks_for;
-using detail::exclusive_sum;
+using detail::exclusive_scan;
 using detail::pack_key;
 using detail::radix_bits;
 using detail::radix_sort_keys;
@@ -51,8 +51,9 @@ struct WaitingFeaturePair {
 };
 
 /// Counts the feature pairs of triangle pair p < n before and after culling
-/// and records which the culling kept (kept[p]; kept bit: vertex-face 3 s +
-/// i, edge-edge 6 + 3 i + j), so that write_kernel need not test them again:
+/// (tally[p]; tally[n] is zero) and records which the culling kept (kept[p];
+/// kept bit: vertex-face 3 s + i, edge-edge 6 + 3 i + j), so that
+/// write_kernel need not test them again:
 /// the CPU's loop body, one pair a thread. The DOPs' float boxes are tested
 /// first: where they are apart the DOPs are (float_box.hpp), and most culled
 /// pairs are apart in x, y or z already. The feature pairs whose boxes meet
@@ -60,8 +61,8 @@ struct WaitingFeaturePair {
 /// the warp then tests with all its lanes (a lane's boxes meet for a few of
 /// its 15 feature pairs, at other places than its neighbours'). Every thread
 /// of a block runs every step, so warp-wide operations see full warps.
-__global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_count, std::uint64_t* ee_count,
-                             std::uint16_t* kept, unsigned long long* counters) {
+__global__ void count_kernel(FeatureInputs in, std::size_t n, FeatureTally* tally, std::uint16_t* kept,
+                             unsigned long long* counters) {
   __shared__ WaitingFeaturePair warp_waiting[detail::kBlockSize / 32][64];
   __shared__ unsigned warp_kept[detail::kBlockSize / 32][32];
   const unsigned lane = threadIdx.x & 31u;
@@ -130,11 +131,9 @@ __global__ void count_kernel(FeatureInputs in, std::size_t n, std::uint64_t* vf_
   if (valid) {
     const unsigned bits = kept_bits[lane];
     kept[p] = static_cast<std::uint16_t>(bits);
-    vf_count[p] = __popc(bits & 63u);
-    ee_count[p] = __popc(bits >> 6);
+    tally[p] = {static_cast<std::uint64_t>(__popc(bits & 63u)), static_cast<std::uint64_t>(__popc(bits >> 6))};
   } else if (p == n) {
-    vf_count[p] = 0;
-    ee_count[p] = 0;
+    tally[p] = {0, 0};
   }
   detail::warp_count(vf_before, &counters[0]);
   detail::warp_count(ee_before, &counters[1]);
@@ -151,15 +150,15 @@ struct FeatureKeyBits {
 /// edge_b), in the order count_kernel finds them, at their offsets less
 /// those of pair `first`.
 __global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t n, const std::uint16_t* kept,
-                             const std::uint64_t* vf_offset, const std::uint64_t* ee_offset, FeatureKeyBits bits,
-                             std::uint64_t* vf_keys, std::uint64_t* ee_keys) {
+                             const FeatureTally* offset, FeatureKeyBits bits, std::uint64_t* vf_keys,
+                             std::uint64_t* ee_keys) {
   const std::uint64_t k = thread_item();
   if (k >= n) return;
   const std::uint64_t p = first + k;
   const unsigned kept_bits = kept[p];
   if (kept_bits == 0) return;
   const Index side[2] = {in.pairs[p].a, in.pairs[p].b};
-  std::uint64_t* vf = vf_keys + (vf_offset[p] - vf_offset[first]);
+  std::uint64_t* vf = vf_keys + (offset[p].vf - offset[first].vf);
   for (int s = 0; s < 2; ++s) {
     if (!(kept_bits & (7u << (3 * s)))) continue;
     const Triangle ta = in.tris[side[s]];
@@ -167,7 +166,7 @@ __global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t 
       if (kept_bits & (1u << (3 * s + i))) *vf++ = pack_key(ta[i], side[1 - s], bits.face);
   }
   if (!(kept_bits >> 6)) return;
-  std::uint64_t* ee = ee_keys + (ee_offset[p] - ee_offset[first]);
+  std::uint64_t* ee = ee_keys + (offset[p].ee - offset[first].ee);
   const std::array<Index, 3> edges_a = in.edge_ids[side[0]], edges_b = in.edge_ids[side[1]];
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
@@ -181,8 +180,8 @@ __global__ void write_kernel(FeatureInputs in, std::uint64_t first, std::size_t 
 /// Part j (0 <= j <= parts) starts at the first pair whose candidates before
 /// it number at least j * step (part `parts` at n); bounds[3j..3j+2] = that
 /// pair and its vertex-face and edge-edge offsets.
-__global__ void part_bounds_kernel(const std::uint64_t* vf_offset, const std::uint64_t* ee_offset, std::size_t n,
-                                   std::uint64_t step, std::size_t parts, std::uint64_t* bounds) {
+__global__ void part_bounds_kernel(const FeatureTally* offset, std::size_t n, std::uint64_t step, std::size_t parts,
+                                   std::uint64_t* bounds) {
   const std::uint64_t j = thread_item();
   if (j > parts) return;
   std::uint64_t lo = 0, hi = n;  // the first p in [0, n] with offset(p) >= j * step
@@ -191,13 +190,22 @@ __global__ void part_bounds_kernel(const std::uint64_t* vf_offset, const std::ui
   } else {
     while (lo < hi) {
       const std::uint64_t mid = lo + (hi - lo) / 2;
-      if (vf_offset[mid] + ee_offset[mid] >= j * step) hi = mid; else lo = mid + 1;
+      if (offset[mid].vf + offset[mid].ee >= j * step)
+        hi = mid;
+      else
+        lo = mid + 1;
     }
   }
   bounds[3 * j] = lo;
-  bounds[3 * j + 1] = vf_offset[lo];
-  bounds[3 * j + 2] = ee_offset[lo];
+  bounds[3 * j + 1] = offset[lo].vf;
+  bounds[3 * j + 2] = offset[lo].ee;
 }
+
+struct AddFeatureTallies {
+  __device__ FeatureTally operator()(const FeatureTally& a, const FeatureTally& b) const {
+    return {a.vf + b.vf, a.ee + b.ee};
+  }
+};
 
 __global__ void unpack_vf_kernel(const std::uint64_t* keys, std::size_t n, int bits, VertexFaceCandidate* out) {
   const std::uint64_t k = thread_item();
@@ -239,42 +247,39 @@ void representative_feature_pairs_on_device(
                          bounds.edge_boxes.data(),
                          bounds.vertex_boxes.data(),
                          pairs};
-  f.vf_count.resize(n + 1);
-  f.ee_count.resize(n + 1);
+  f.tally.resize(n + 1);
   f.kept.resize(n);
-  f.vf_offset.resize(n + 1);
-  f.ee_offset.resize(n + 1);
   f.counters.resize(2);
   f.counters.fill_zero();
-  count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(in, n, f.vf_count.data(), f.ee_count.data(),
-                                                                     f.kept.data(), f.counters.data());
+  count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(in, n, f.tally.data(), f.kept.data(),
+                                                                     f.counters.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  exclusive_sum(f.vf_count.data(), f.vf_offset.data(), n + 1, f.temp, stream);
-  exclusive_sum(f.ee_count.data(), f.ee_offset.data(), n + 1, f.temp, stream);
-  std::uint64_t vf_total = 0, ee_total = 0;
+  exclusive_scan(f.tally.data(), f.tally.data(), n + 1, AddFeatureTallies{}, f.temp, stream);
+  FeatureTally total;
   unsigned long long before[2] = {0, 0};
-  ReadBack(stream)
-      .add(&vf_total, f.vf_offset.data() + n)
-      .add(&ee_total, f.ee_offset.data() + n)
-      .add(before, f.counters.data(), 2)
-      .wait();
+  ReadBack(stream).add(&total, f.tally.data() + n).add(before, f.counters.data(), 2).wait();
   counts.vf_before += before[0];
   counts.ee_before += before[1];
-  counts.vf_after += vf_total;
-  counts.ee_after += ee_total;
+  counts.vf_after += total.vf;
+  counts.ee_after += total.ee;
 
   // Parts of consecutive pairs: a part starts where the candidates before it
-  // reach a multiple of step, so it holds fewer than step + 15 <= room.
+  // reach a multiple of step, so it holds fewer than step + 15 <= room. One
+  // part (the usual case) is all the pairs, and needs no search.
   const std::uint64_t step = candidate_room - kMostCandidatesPerPair;
-  const std::uint64_t total = vf_total + ee_total;
-  const std::size_t parts = std::max<std::uint64_t>(1, total / step + (total % step != 0 ? 1 : 0));
+  const std::uint64_t candidates = total.vf + total.ee;
+  const std::size_t parts = std::max<std::uint64_t>(1, candidates / step + (candidates % step != 0 ? 1 : 0));
   std::vector<std::uint64_t> part_bounds(3 * (parts + 1));
-  f.bounds.resize(part_bounds.size());
-  part_bounds_kernel<<<blocks_for(parts + 1), detail::kBlockSize, 0, stream>>>(
-      f.vf_offset.data(), f.ee_offset.data(), n, step, parts, f.bounds.data());
-  SNAG_CUDA_CHECK_LAUNCH();
-  f.bounds.download(part_bounds.data(), part_bounds.size());
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+  if (parts == 1) {
+    part_bounds = {0, 0, 0, n, total.vf, total.ee};
+  } else {
+    f.bounds.resize(part_bounds.size());
+    part_bounds_kernel<<<blocks_for(parts + 1), detail::kBlockSize, 0, stream>>>(f.tally.data(), n, step, parts,
+                                                                                 f.bounds.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+    f.bounds.download(part_bounds.data(), part_bounds.size());
+    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
+  }
 
   // Keys are unique (see representative_triangles.hpp); a sort orders them as the CPU's.
   const std::size_t triangle_count = topology.triangles.size();
@@ -290,9 +295,8 @@ void representative_feature_pairs_on_device(
     f.ee_keys.resize(ee_n);
     f.vf_sorted.resize(vf_n);
     f.ee_sorted.resize(ee_n);
-    write_kernel<<<blocks_for(end - first), detail::kBlockSize, 0, stream>>>(in, first, end - first, f.kept.data(),
-                                                                             f.vf_offset.data(), f.ee_offset.data(),
-                                                                             bits, f.vf_keys.data(), f.ee_keys.data());
+    write_kernel<<<blocks_for(end - first), detail::kBlockSize, 0, stream>>>(
+        in, first, end - first, f.kept.data(), f.tally.data(), bits, f.vf_keys.data(), f.ee_keys.data());
     SNAG_CUDA_CHECK_LAUNCH();
     const std::uint64_t* vf_sorted = sort_keys(f.vf_keys.data(), f.vf_sorted.data(), vf_n, vf_bits, f.temp, stream);
     const std::uint64_t* ee_sorted = sort_keys(f.ee_keys.data(), f.ee_sorted.data(), ee_n, ee_bits, f.temp, stream);

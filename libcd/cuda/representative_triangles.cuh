@@ -2,7 +2,7 @@
 // libcd/culling/representative_triangles.cpp: each triangle pair yields the
 // vertex-face and edge-edge pairs of the features its triangles represent,
 // culled by the swept 18-DOPs of vertex against face and edge against edge.
-// One thread per triangle pair counts, a prefix sum places, a second pass
+// One thread per triangle pair counts, a prefix scan places, a second pass
 // writes; a radix sort orders the outputs as the CPU's sort does.
 #pragma once
 
@@ -33,9 +33,16 @@ struct DeviceTopology {
       : triangles(0, stream), edges(0, stream), masks(0, stream), edge_ids(0, stream) {}
 };
 
+/// What one triangle pair adds: the vertex-face and edge-edge candidates the
+/// culling kept, and after an exclusive scan in place those of the pairs
+/// before it (its candidates' places).
+struct FeatureTally {
+  std::uint64_t vf = 0, ee = 0;
+};
+
 /// Buffers of the feature stage, reused across calls.
 struct DeviceFeatures {
-  DeviceBuffer<std::uint64_t> vf_count, ee_count, vf_offset, ee_offset;
+  DeviceBuffer<FeatureTally> tally;  ///< n + 1 per chunk of n pairs, scanned in place: tally[n] is the chunk's sum
   DeviceBuffer<std::uint64_t> vf_keys, ee_keys, vf_sorted, ee_sorted;  ///< keys and sorted: the sort's two halves
   DeviceBuffer<VertexFaceCandidate> vf;  ///< the result of a part, sorted
   DeviceBuffer<EdgeEdgeCandidate> ee;    ///< the result of a part, sorted
@@ -45,10 +52,7 @@ struct DeviceFeatures {
   DeviceBuffer<unsigned char> temp;
 
   explicit DeviceFeatures(cudaStream_t stream)
-      : vf_count(0, stream),
-        ee_count(0, stream),
-        vf_offset(0, stream),
-        ee_offset(0, stream),
+      : tally(0, stream),
         vf_keys(0, stream),
         ee_keys(0, stream),
         vf_sorted(0, stream),
@@ -61,10 +65,10 @@ struct DeviceFeatures {
         temp(0, stream) {}
 };
 
-/// Device bytes of the feature stage per triangle pair (counts, offsets and
-/// the kept bits) and per candidate (key, the sort's second half, the
+/// Device bytes of the feature stage per triangle pair (the tally and the
+/// kept bits) and per candidate (key, the sort's second half, the
 /// candidate).
-constexpr std::size_t kFeatureBytesPerPair = 4 * sizeof(std::uint64_t) + sizeof(std::uint16_t);
+constexpr std::size_t kFeatureBytesPerPair = sizeof(FeatureTally) + sizeof(std::uint16_t);
 constexpr std::size_t kFeatureBytesPerCandidate = 3 * sizeof(std::uint64_t);
 /// The most candidates one triangle pair yields (6 vertex-face, 9 edge-edge).
 constexpr std::size_t kMostCandidatesPerPair = 15;
