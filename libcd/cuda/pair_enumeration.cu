@@ -248,8 +248,9 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 }
 
 /// The tests of a chunk, tile by tile (first_tile[cells] of them, read on the
-/// device): each block strides over runs of kTileRun tiles (grid/pair_index.hpp), finds a tile's cell by a galloping search from
-/// its last one (the block's tiles ascend), reads the tile's rows and columns
+/// device): each block strides over runs of kTileRun tiles
+/// (grid/pair_index.hpp), finds a tile's cell by a galloping search from its
+/// last one (the block's tiles ascend), reads the tile's rows and columns
 /// and their roots' float boxes into shared memory, and its threads run the
 /// tile's tests, row by row, with the CPU's filters in the CPU's order (the
 /// roots' DOP test after their float boxes': the same answer, see
