@@ -366,8 +366,9 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   const DeviceSubdivision& s = b.subdivision;
   add("subdivision: leaves", s.leaves.capacity_bytes() + s.spare.capacity_bytes());
   add("subdivision: level lists", s.items.capacity_bytes() + s.next.capacity_bytes());
-  add("subdivision: decisions, counts, scratch",
-      s.decision.capacity_bytes() + s.home.capacity_bytes() + s.tally.capacity_bytes() + s.temp.capacity_bytes());
+  add("subdivision: decisions, counts, scratch", s.decision.capacity_bytes() + s.home.capacity_bytes() +
+                                                     s.tally.capacity_bytes() + s.state.capacity_bytes() +
+                                                     s.temp.capacity_bytes());
   const DeviceCellLists& c = b.cells;
   add("registration: cell lists", c.cell_ids.capacity_bytes() + c.first.capacity_bytes() + c.leaves.capacity_bytes());
   add("registration: sort keys and values", c.keys.capacity_bytes() + c.keys_sorted.capacity_bytes() +
@@ -426,7 +427,7 @@ std::size_t CudaBroadPhase::chunk_bytes() const {
 
 void CudaBroadPhase::release_stage_buffers() {
   CudaBroadPhaseBuffers& b = *buffers_;
-  b.subdivision = DeviceSubdivision(stream_);
+  b.subdivision.release();       // the last call's plan stays
   DeviceCellLists& c = b.cells;  // cell_ids and first stay: the tests read them
   for (DeviceBuffer<std::uint64_t>* scratch : {&c.offset, &c.keys, &c.keys_sorted}) scratch->release();
   for (DeviceBuffer<std::uint32_t>* scratch : {&c.values, &c.values_sorted, &c.leaves}) scratch->release();

@@ -8,9 +8,11 @@
 #include <cub/device/device_scan.cuh>
 
 #include <algorithm>
+#include <functional>
 
 #include "libcd/bounding_volume/bounding_sphere.hpp"
 #include "libcd/bounding_volume/primitive_bounds.hpp"
+#include "libcd/core/error.hpp"
 #include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
 
@@ -35,8 +37,9 @@ __device__ __forceinline__ void swept_points_of(const VirtualTriangle& t, const 
   virtual_swept_points(t, p_t0, p_t1, points);
 }
 
-__global__ void root_items_kernel(std::size_t n, DeviceLevelItem* items) {
+__global__ void root_items_kernel(std::size_t n, DeviceLevelItem* items, LevelState* first) {
   const std::uint64_t f = thread_item();
+  if (f == 0) *first = LevelState{SplitTally{}, n, 0, 0};
   if (f >= n) return;
   items[f].triangle = virtual_root(static_cast<Index>(f));
   items[f].group_first = static_cast<std::uint32_t>(f);
@@ -49,12 +52,20 @@ struct AddTallies {
   }
 };
 
-/// Pass 1: decision, home cell, and what the triangle adds (tally[n]: nothing).
-__global__ void examine_kernel(const DeviceLevelItem* items, std::size_t n, const Triangle* tris, const Vec3* x_t0,
-                               const Vec3* x_t1, GridSpec grid, double thickness, std::uint32_t max_levels,
-                               std::uint32_t max_halvings, std::uint8_t* decision, CellCoord* home, SplitTally* tally) {
+/// The items of a level given `room` for them: none when they overflowed it.
+__device__ __forceinline__ std::uint64_t items_within(const LevelState& level, std::size_t room) {
+  return level.items <= room ? level.items : 0;
+}
+
+/// Pass 1: decision, home cell, and what the triangle adds (tally[i] for i in
+/// [items, room]: nothing).
+__global__ void examine_kernel(const DeviceLevelItem* items, const LevelState* level, std::size_t room,
+                               const Triangle* tris, const Vec3* x_t0, const Vec3* x_t1, GridSpec grid,
+                               double thickness, std::uint32_t max_levels, std::uint32_t max_halvings,
+                               std::uint8_t* decision, CellCoord* home, SplitTally* tally) {
   const std::uint64_t i = thread_item();
-  if (i > n) return;
+  if (i > room) return;
+  const std::uint64_t n = items_within(*level, room);
   SplitTally t;
   if (i < n) {
     const VirtualTriangle triangle = items[i].triangle;
@@ -73,16 +84,29 @@ __global__ void examine_kernel(const DeviceLevelItem* items, std::size_t n, cons
   tally[i] = t;
 }
 
-/// Pass 3: leaves and children, as the CPU's third pass.
-__global__ void write_kernel(const DeviceLevelItem* items, std::size_t n, const Triangle* tris, const Vec3* x_t0,
-                             const Vec3* x_t1, GridSpec grid, double thickness, const std::uint8_t* decision,
-                             const CellCoord* home, const SplitTally* offset, Leaf* leaves, DeviceLevelItem* next) {
+/// Pass 3: leaves and children, as the CPU's third pass, within the rooms
+/// (leaves: all levels'; next: the next level's items). The first thread
+/// records the level's total and the next level's state (level[1]), with
+/// `overflow` set when a room was short.
+__global__ void write_kernel(const DeviceLevelItem* items, LevelState* level, std::size_t room, const Triangle* tris,
+                             const Vec3* x_t0, const Vec3* x_t1, GridSpec grid, double thickness,
+                             const std::uint8_t* decision, const CellCoord* home, const SplitTally* offset,
+                             Leaf* leaves, std::size_t leaf_room, DeviceLevelItem* next, std::size_t next_room) {
   const std::uint64_t i = thread_item();
+  const std::uint64_t n = items_within(*level, room), leaf_base = level->leaf_base;
+  if (i == 0) {
+    const SplitTally total = offset[n];
+    level->total = total;
+    level[1] = LevelState{
+        SplitTally{}, total.children, leaf_base + total.leaves,
+        level->overflow || level->items > room || total.children > next_room || leaf_base + total.leaves > leaf_room};
+  }
   if (i >= n) return;
   const DeviceLevelItem item = items[i];
   const SplitDecision d = static_cast<SplitDecision>(decision[i]);
   if (is_leaf(d)) {
-    Leaf& leaf = leaves[offset[i].leaves];
+    if (leaf_base + offset[i].leaves >= leaf_room) return;
+    Leaf& leaf = leaves[leaf_base + offset[i].leaves];
     leaf.triangle = item.triangle;
     Vec3 p_t0[3], p_t1[3], points[6];
     swept_points_of(item.triangle, tris, x_t0, x_t1, p_t0, p_t1, points);
@@ -100,16 +124,107 @@ __global__ void write_kernel(const DeviceLevelItem* items, std::size_t n, const 
     cells.control_bits = make_control_bits(cells);
     leaf.cells = cells;
   } else if (d == SplitDecision::kSubdivide) {
+    const std::uint64_t o = offset[i].children;
+    if (o + 4 > next_room) return;
     VirtualTriangle child[4];
     loop_children(item.triangle, child);
-    const std::uint64_t o = offset[i].children;
     for (int q = 0; q < 4; ++q) next[o + q] = {child[q], static_cast<std::uint32_t>(o), 4};
   } else {
+    const std::uint64_t o = offset[i].children;
+    if (o + 2 > next_room) return;
     VirtualTriangle child[2];
     halve_time(item.triangle, child);
-    const std::uint64_t o = offset[i].children;
     for (int h = 0; h < 2; ++h) next[o + h] = {child[h], static_cast<std::uint32_t>(o + h), 1};
   }
+}
+
+SubdivisionLevelCounts level_counts(std::size_t items, const SplitTally& total) {
+  SubdivisionLevelCounts counts;
+  counts.triangles = items;
+  counts.accepted = total.leaves;
+  counts.subdivided = (total.children - 2 * total.halved) / 4;
+  counts.halved = total.halved;
+  counts.oversized = total.oversized;
+  return counts;
+}
+
+/// The stage's inputs, passed on to each level's passes.
+struct SubdivisionInputs {
+  const Triangle* triangles;
+  std::size_t triangle_count;
+  const Vec3* x_t0;
+  const Vec3* x_t1;
+  GridSpec grid;
+  double thickness;
+  std::uint32_t max_levels, max_halvings;
+};
+
+/// One level's passes: examine `room` + 1 items (those past the level's own
+/// count add nothing), scan their tallies, and, when `total` is given, read
+/// the level's sum into it (the host then sizes next_room and leaf_room
+/// with it); write leaves and children within the rooms. The level's state
+/// is state[0], the next's state[1].
+void run_level(const SubdivisionInputs& in, std::size_t room, LevelState* state, SplitTally* total,
+               const std::function<void(const SplitTally&)>& size_rooms, DeviceSubdivision& b, cudaStream_t stream,
+               const GrowthCheck& check) {
+  check_growth(check, b.decision.growth_bytes(room) + b.home.growth_bytes(room) + b.tally.growth_bytes(room + 1));
+  b.decision.resize(room);
+  b.home.resize(room);
+  b.tally.resize(room + 1);
+  examine_kernel<<<blocks_for(room + 1), detail::kBlockSize, 0, stream>>>(
+      b.items.data(), state, room, in.triangles, in.x_t0, in.x_t1, in.grid, in.thickness, in.max_levels,
+      in.max_halvings, b.decision.data(), b.home.data(), b.tally.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+  exclusive_scan(b.tally.data(), b.tally.data(), room + 1, AddTallies{}, b.temp, stream, check);
+  if (total != nullptr) {
+    ReadBack(stream).add(total, b.tally.data() + room).wait();
+    size_rooms(*total);
+  }
+  write_kernel<<<blocks_for(std::max<std::size_t>(room, 1)), detail::kBlockSize, 0, stream>>>(
+      b.items.data(), state, room, in.triangles, in.x_t0, in.x_t1, in.grid, in.thickness, b.decision.data(),
+      b.home.data(), b.tally.data(), b.leaves.data(), b.leaves.size(), b.next.data(), b.next.size());
+  SNAG_CUDA_CHECK_LAUNCH();
+  std::swap(b.items, b.next);
+}
+
+/// The levels as the last call's (b.plan), each in a quarter more room,
+/// waiting for the stream once at the end. Returns false, the leaves and
+/// `levels` undefined, when a level outgrew its room or the plan ended
+/// before the levels did.
+bool subdivide_as_planned(const SubdivisionInputs& in, DeviceSubdivision& b, cudaStream_t stream,
+                          std::vector<SubdivisionLevelCounts>& levels, std::size_t& leaf_count,
+                          const GrowthCheck& check) {
+  const std::vector<std::size_t> plan = b.plan;
+  auto room_of = [&](std::size_t level) {
+    if (level == 0) return in.triangle_count;
+    const std::size_t planned = level < plan.size() ? plan[level] : 0;
+    return planned + planned / 4 + 256;
+  };
+  std::size_t most_items = 0;
+  for (std::size_t level = 0; level <= plan.size(); ++level) most_items = std::max(most_items, room_of(level));
+  const std::size_t leaf_room = b.planned_leaves + b.planned_leaves / 4 + 256;
+  check_growth(check, b.items.growth_bytes(most_items) + b.next.growth_bytes(most_items) +
+                          b.state.growth_bytes(plan.size() + 1) + b.leaves.growth_bytes(leaf_room));
+  b.items.resize(most_items);
+  b.next.resize(most_items);
+  b.state.resize(plan.size() + 1);
+  b.leaves.resize(leaf_room);
+  root_items_kernel<<<blocks_for(in.triangle_count), detail::kBlockSize, 0, stream>>>(in.triangle_count, b.items.data(),
+                                                                                      b.state.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+  for (std::size_t level = 0; level < plan.size(); ++level) {
+    b.next.resize(room_of(level + 1));
+    run_level(in, room_of(level), b.state.data() + level, nullptr, {}, b, stream, check);
+  }
+  std::vector<LevelState> states(plan.size() + 1);
+  ReadBack(stream).add(states.data(), b.state.data(), states.size()).wait();
+  const LevelState& after = states.back();
+  if (after.overflow != 0 || after.items != 0) return false;
+  levels.clear();  // the levels with items (fewer than planned when they ended sooner)
+  for (std::size_t level = 0; level < plan.size() && states[level].items > 0; ++level)
+    levels.push_back(level_counts(states[level].items, states[level].total));
+  leaf_count = after.leaf_base;
+  return true;
 }
 
 }  // namespace
@@ -120,49 +235,52 @@ std::size_t subdivide_virtually_on_device(const Triangle* triangles, std::size_t
                                           DeviceSubdivision& b, cudaStream_t stream,
                                           std::vector<SubdivisionLevelCounts>& levels, const GrowthCheck& check) {
   levels.clear();
-  std::size_t n = triangle_count, leaf_total_so_far = 0;
-  check_growth(check, b.items.growth_bytes(n));
-  b.items.resize(n);
-  if (n > 0) {
-    root_items_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(n, b.items.data());
-    SNAG_CUDA_CHECK_LAUNCH();
+  const SubdivisionInputs in{triangles, triangle_count, x_t0, x_t1, grid, thickness, max_levels, max_halvings};
+  std::size_t leaf_count = 0;
+  bool planned = false;
+  if (!b.plan.empty() && b.plan.front() == triangle_count) {
+    try {
+      planned = subdivide_as_planned(in, b, stream, levels, leaf_count, check);
+    } catch (const UsageError&) {
+      // The plan's rooms did not fit the memory limit: its buffers go, and
+      // the levels run in exactly the room they need.
+      b.release();
+    }
   }
-  while (n > 0) {
-    check_growth(check, b.decision.growth_bytes(n) + b.home.growth_bytes(n) + b.tally.growth_bytes(n + 1));
-    b.decision.resize(n);
-    b.home.resize(n);
-    b.tally.resize(n + 1);
-    examine_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(
-        b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, max_levels, max_halvings, b.decision.data(),
-        b.home.data(), b.tally.data());
+  if (!planned) {
+    // Level by level, each sized by the one before (read back).
+    levels.clear();
+    std::size_t n = triangle_count;
+    check_growth(check, b.items.growth_bytes(n) + b.state.growth_bytes(2));
+    b.items.resize(n);
+    b.state.resize(2);
+    root_items_kernel<<<blocks_for(std::max<std::size_t>(n, 1)), detail::kBlockSize, 0, stream>>>(n, b.items.data(),
+                                                                                                  b.state.data());
     SNAG_CUDA_CHECK_LAUNCH();
-    exclusive_scan(b.tally.data(), b.tally.data(), n + 1, AddTallies{}, b.temp, stream, check);
-    SplitTally total;
-    ReadBack(stream).add(&total, b.tally.data() + n).wait();
-    const std::size_t child_total = total.children, leaf_total = total.leaves;
-
-    SubdivisionLevelCounts counts;
-    counts.triangles = n;
-    counts.accepted = leaf_total;
-    counts.subdivided = (total.children - 2 * total.halved) / 4;
-    counts.halved = total.halved;
-    counts.oversized = total.oversized;
-    levels.push_back(counts);
-
-    // Room for this level's leaves after the previous ones (grow, keeping them).
-    const std::size_t leaf_end = leaf_total_so_far + leaf_total;
-    grow_keeping(b.leaves, b.spare, leaf_total_so_far, leaf_end, check);
-    check_growth(check, b.next.growth_bytes(child_total));
-    b.next.resize(child_total);
-    write_kernel<<<blocks_for(n), detail::kBlockSize, 0, stream>>>(
-        b.items.data(), n, triangles, x_t0, x_t1, grid, thickness, b.decision.data(), b.home.data(), b.tally.data(),
-        b.leaves.data() + leaf_total_so_far, b.next.data());
-    SNAG_CUDA_CHECK_LAUNCH();
-    std::swap(b.items, b.next);
-    leaf_total_so_far = leaf_end;
-    n = child_total;
+    for (std::size_t level = 0; n > 0; ++level) {
+      // state[0] is this level's: the next one's, written by the level before.
+      if (level > 0)
+        SNAG_CUDA_CHECK(
+            cudaMemcpyAsync(b.state.data(), b.state.data() + 1, sizeof(LevelState), cudaMemcpyDeviceToDevice, stream));
+      SplitTally total;
+      run_level(
+          in, n, b.state.data(), &total,
+          [&](const SplitTally& sum) {
+            // Room for this level's leaves after the previous ones (grow, keeping them).
+            grow_keeping(b.leaves, b.spare, leaf_count, leaf_count + sum.leaves, check);
+            check_growth(check, b.next.growth_bytes(sum.children));
+            b.next.resize(sum.children);
+          },
+          b, stream, check);
+      levels.push_back(level_counts(n, total));
+      leaf_count += total.leaves;
+      n = total.children;
+    }
   }
-  return leaf_total_so_far;
+  b.plan.clear();
+  for (const SubdivisionLevelCounts& level : levels) b.plan.push_back(level.triangles);
+  b.planned_leaves = leaf_count;
+  return leaf_count;
 }
 
 }  // namespace snag

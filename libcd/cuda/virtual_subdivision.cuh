@@ -1,6 +1,6 @@
 // Virtual subdivision on the GPU, mirroring libcd/subdivision/virtual_subdivision.cpp:
 // level by level, one thread per virtual triangle decides (accept, Loop split,
-// time halving) and finds its home cell; one prefix sum places children in
+// time halving) and finds its home cell; one prefix scan places children in
 // the next level's list and leaves after the previous levels' leaves; a second
 // pass writes leaves (DOP, cells, control bits with siblings) and children.
 // Same order as the CPU, so the leaf list is identical.
@@ -33,14 +33,27 @@ struct SplitTally {
   std::uint64_t children = 0, leaves = 0, halved = 0, oversized = 0;
 };
 
-/// Buffers of the subdivision stage, reused across calls (they only grow).
+/// A level as the device knows it: its items and the leaves of the levels
+/// before it (written by the pass before), what it adds (its write pass), and
+/// whether a level ran out of the room it was given (carried on).
+struct LevelState {
+  SplitTally total;
+  std::uint64_t items = 0, leaf_base = 0;
+  std::uint32_t overflow = 0;
+};
+
+/// Buffers of the subdivision stage, reused across calls (they only grow),
+/// and the item counts of the last call's levels (its plan).
 struct DeviceSubdivision {
   DeviceBuffer<DeviceLevelItem> items, next;
   DeviceBuffer<std::uint8_t> decision;
   DeviceBuffer<CellCoord> home;
-  DeviceBuffer<SplitTally> tally;  ///< n + 1 per level, the last zero; scanned in place: tally[n] is the level's sum
+  DeviceBuffer<SplitTally> tally;  ///< room + 1 per level, scanned in place: tally[items] is the level's sum
+  DeviceBuffer<LevelState> state;  ///< one per level of a planned call and one after; two else
   DeviceBuffer<Leaf> leaves, spare;
   DeviceBuffer<unsigned char> temp;
+  std::vector<std::size_t> plan;  ///< items per level of the last call
+  std::size_t planned_leaves = 0;
 
   explicit DeviceSubdivision(cudaStream_t stream)
       : items(0, stream),
@@ -48,14 +61,33 @@ struct DeviceSubdivision {
         decision(0, stream),
         home(0, stream),
         tally(0, stream),
+        state(0, stream),
         leaves(0, stream),
         spare(0, stream),
         temp(0, stream) {}
+
+  /// Gives every buffer back; the plan stays.
+  void release() noexcept {
+    items.release();
+    next.release();
+    decision.release();
+    home.release();
+    tally.release();
+    state.release();
+    leaves.release();
+    spare.release();
+    temp.release();
+  }
 };
 
 /// Subdivides every triangle as subdivide_virtually does; the leaves are left
 /// in buffers.leaves (the returned count, level by level, in list order).
-/// Waits for the stream once per level (the sizes of the next level).
+/// When the last call had as many triangles, its levels are the plan: each
+/// level gets a quarter more room than the last call's had, the passes read
+/// their sizes on the device, and the stream is waited for once at the end;
+/// a level that outgrows its room, or a level more, and the levels are run
+/// again as below. Otherwise it waits for the stream once per level (the
+/// sizes of the next level).
 /// @param triangles  #F device triangles; x_t0, x_t1: #V device positions
 /// @param[out] levels  one entry per level examined
 /// @param check  told what each allocation adds before it is made (it may throw)

@@ -5,7 +5,9 @@
 // samples, and the reference frames cloth_ball92 -> 93; the same for the
 // adaptive grid, whose hierarchy of crowded cells is also compared cell by
 // cell with the CPU's; a soup around the origin with signed zeros (the
-// bounds' reductions). Also: the exact radius sum does not depend on order.
+// bounds' reductions); steps of one scene whose levels differ from the step
+// before (the subdivision's plan). Also: the exact radius sum does not depend
+// on order.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -221,6 +223,43 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuWithFastMoversAndTimeHalving) {
     expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kLargestTriangleGrid, {});
     EXPECT_GT(expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kAdaptiveGrid, {}), 0u);
   }
+}
+
+// One broad phase over steps of one scene: each step's subdivision runs in
+// the levels of the step before (their sizes with room to spare, read back
+// once), and runs level by level again when that plan falls short. The
+// motion is scaled: the same step again and a little less (the plan holds),
+// three times as much (a level more, then the plan holds), less (a level
+// outgrows its room), none (fewer levels, each within its room), and back.
+// Every step's candidates and counts are the CPU's.
+TEST_F(CudaBroadPhaseTest, StepsMatchCpuWhenTheirLevelsDifferFromTheStepBefore) {
+  const Soup soup = random_soup(41, 3000, true);
+  VirtualSubdivisionGrid cpu(true);
+  const std::unique_ptr<BroadPhase> gpu = make_cuda_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  cpu.build(soup.scene, {});
+  gpu->build(soup.scene, {});
+  std::vector<std::size_t> level_counts;
+  for (double scale : {1.0, 1.0, 0.9, 3.0, 3.0, 0.4, 0.0, 1.0}) {
+    SCOPED_TRACE(scale);
+    std::vector<Vec3> x_t1 = soup.x_t0;
+    for (std::size_t v = 0; v < x_t1.size(); ++v) x_t1[v] = soup.x_t0[v] + scale * (soup.x_t1[v] - soup.x_t0[v]);
+    std::vector<VertexFaceCandidate> vf_cpu, vf_gpu;
+    std::vector<EdgeEdgeCandidate> ee_cpu, ee_gpu;
+    cpu.detect_ccd(soup.x_t0, x_t1, vf_cpu, ee_cpu);
+    gpu->detect_ccd(soup.x_t0, x_t1, vf_gpu, ee_gpu);
+    EXPECT_EQ(vf_cpu, vf_gpu);
+    EXPECT_EQ(ee_cpu, ee_gpu);
+    expect_same_counts(cpu.stats(), gpu->stats());
+    level_counts.push_back(gpu->stats().triangles_per_level.size());
+  }
+  // The steps differ in their levels (else the plan was never short).
+  EXPECT_GT(level_counts[3], level_counts[2]);
+  EXPECT_LT(level_counts[6], level_counts[5]);
+  std::vector<TrianglePair> pairs_cpu, pairs_gpu;
+  cpu.detect_static(soup.x_t1, pairs_cpu);
+  gpu->detect_static(soup.x_t1, pairs_gpu);
+  EXPECT_EQ(pairs_cpu, pairs_gpu);
+  expect_same_counts(cpu.stats(), gpu->stats());
 }
 
 // The scene box, the largest radius and the radii's sum, reduced in the
