@@ -193,8 +193,11 @@ class PinnedBuffer {
 /// A few small device values (counts, totals, counters) copied to the host
 /// with one wait. A copy to pageable memory returns only once it is done, so
 /// that each would wait for the device on its own; these copies land in
-/// page-locked memory of the calling thread instead, and wait() synchronises
-/// the stream once and moves each value to its place.
+/// page-locked memory of the calling thread instead, and wait() waits for
+/// them once and moves each value to its place. start() enqueues the copies
+/// alone, so that work the values do not decide can be enqueued behind them
+/// before wait() (one started ReadBack per thread at a time: they share the
+/// thread's page-locked memory).
 class ReadBack {
  public:
   explicit ReadBack(cudaStream_t stream) : stream_(stream) {}
@@ -203,45 +206,73 @@ class ReadBack {
   template <class T>
   ReadBack& add(T* host, const T* device, std::size_t count = 1) {
     static_assert(std::is_trivially_copyable<T>::value, "ReadBack copies trivially copyable types only");
-    assert(copies_ < kMaxCopies);
+    assert(copies_ < kMaxCopies && !started_);
     copy_[copies_++] = Copy{host, device, count * sizeof(T)};
     return *this;
   }
 
-  /// Enqueues the copies, waits for the stream and moves the values to
-  /// their places. Throws CudaError.
-  void wait() {
-    constexpr std::size_t kAlign = 16;
+  /// Enqueues the copies and marks their end. Throws CudaError.
+  ReadBack& start() {
+    assert(!started_);
+    Staging& staging = thread_staging();
     std::size_t total = 0;
     for (int k = 0; k < copies_; ++k) total += (copy_[k].bytes + kAlign - 1) / kAlign * kAlign;
-    thread_local PinnedBuffer<unsigned char> staging;
-    staging.resize(total);
+    staging.memory.resize(total);
     std::size_t at = 0;
     for (int k = 0; k < copies_; ++k) {
       if (copy_[k].bytes > 0)
-        SNAG_CUDA_CHECK(
-            cudaMemcpyAsync(staging.data() + at, copy_[k].device, copy_[k].bytes, cudaMemcpyDeviceToHost, stream_));
+        SNAG_CUDA_CHECK(cudaMemcpyAsync(staging.memory.data() + at, copy_[k].device, copy_[k].bytes,
+                                        cudaMemcpyDeviceToHost, stream_));
       at += (copy_[k].bytes + kAlign - 1) / kAlign * kAlign;
     }
-    SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
-    at = 0;
+    SNAG_CUDA_CHECK(cudaEventRecord(staging.copied, stream_));
+    started_ = true;
+    return *this;
+  }
+
+  /// Waits for the copies (enqueued first if start() was not called) and
+  /// moves the values to their places. Throws CudaError.
+  void wait() {
+    if (!started_) start();
+    Staging& staging = thread_staging();
+    SNAG_CUDA_CHECK(cudaEventSynchronize(staging.copied));
+    std::size_t at = 0;
     for (int k = 0; k < copies_; ++k) {
-      if (copy_[k].bytes > 0) std::memcpy(copy_[k].host, staging.data() + at, copy_[k].bytes);
+      if (copy_[k].bytes > 0) std::memcpy(copy_[k].host, staging.memory.data() + at, copy_[k].bytes);
       at += (copy_[k].bytes + kAlign - 1) / kAlign * kAlign;
     }
     copies_ = 0;
+    started_ = false;
   }
 
  private:
   static constexpr int kMaxCopies = 4;
+  static constexpr std::size_t kAlign = 16;
   struct Copy {
     void* host;
     const void* device;
     std::size_t bytes;
   };
+  /// The calling thread's page-locked memory and the event after its copies.
+  struct Staging {
+    PinnedBuffer<unsigned char> memory;
+    cudaEvent_t copied = nullptr;
+    Staging() { SNAG_CUDA_CHECK(cudaEventCreateWithFlags(&copied, cudaEventDisableTiming)); }
+    ~Staging() {
+      if (copied != nullptr) (void)cudaEventDestroy(copied);
+    }
+    Staging(const Staging&) = delete;
+    Staging& operator=(const Staging&) = delete;
+  };
+  static Staging& thread_staging() {
+    thread_local Staging staging;
+    return staging;
+  }
+
   cudaStream_t stream_;
   Copy copy_[kMaxCopies] = {};
   int copies_ = 0;
+  bool started_ = false;
 };
 
 /// Told by a stage the device bytes its buffers are about to add, before they

@@ -188,12 +188,13 @@ __global__ void __launch_bounds__(kBlockSize, 4)
   flags[i] = !decided ? kUndecided : screened(result);
 }
 
-// The screen, step 2: the candidates subset[k], k < count, that step 1 left
-// undecided get the rest of the quick part (the decisions by structure and
+// The screen, step 2: the candidates subset[k] = selected[first + k], k <
+// count, count = min(room, *selected_count - first) (0 past the end), that
+// step 1 left undecided get the rest of the quick part (the decisions by structure and
 // the time search; their early exits decided nothing), which updates their
 // result and flag in place. A search that isolates its earliest contact (a
 // hit, nearly always) stops there and is appended to `isolated` (room for
-// `count`; counts[1] counts them), flagged kIsolated: the halvings
+// `room`; counts[1] counts them), flagged kIsolated: the halvings
 // down to the time tolerance, the longest part of a hit's search, run in
 // ccd_refine_kernel with every lane of a warp on a hit.
 //
@@ -207,10 +208,14 @@ __global__ void __launch_bounds__(kBlockSize, 4)
 // (kQuickBlocksPerSm per multiprocessor).
 template <class Query>
 __global__ void __launch_bounds__(kBlockSize, kQuickBlocksPerSm)
-    ccd_quick_kernel(Query query, const std::uint32_t* __restrict__ subset, std::size_t count, CcdSettings settings,
-                     CcdResult* __restrict__ results, unsigned char* __restrict__ flags,
+    ccd_quick_kernel(Query query, const std::uint32_t* __restrict__ selected,
+                     const long long* __restrict__ selected_count, std::size_t first, std::size_t room,
+                     CcdSettings settings, CcdResult* __restrict__ results, unsigned char* __restrict__ flags,
                      IsolatedQuery* __restrict__ isolated, unsigned long long* __restrict__ counts) {
   unsigned long long *taken = &counts[0], *isolated_count = &counts[1];
+  const std::uint32_t* const subset = selected + first;
+  const auto selected_total = static_cast<std::size_t>(*selected_count);
+  const std::size_t count = selected_total > first ? std::min(room, selected_total - first) : 0;
   const unsigned lane = threadIdx.x & 31u, lanes_below = (1u << lane) - 1u;
   typename Query::Contact contact;
   ccd_detail::TimeSearchState search;
@@ -427,14 +432,16 @@ void CudaNarrowPhase::release_buffers() {
   selected_.release();
 }
 
-std::size_t CudaNarrowPhase::select_flagged(std::size_t count) {
+void CudaNarrowPhase::select_flagged_on_device(std::size_t count) {
   resize_or_throw(selected_, count, "CCD candidate indices");
   select_flagged_into(thrust::counting_iterator<std::uint32_t>(0), flags_.data(), selected_.data(),
                       selected_count_.data(), count, temp_, stream_);
+}
+
+std::size_t CudaNarrowPhase::select_flagged(std::size_t count) {
+  select_flagged_on_device(count);
   long long selected = 0;
-  SNAG_CUDA_CHECK(cudaMemcpyAsync(&selected, selected_count_.data(), sizeof selected, cudaMemcpyDeviceToHost,
-                                  stream_));
-  SNAG_CUDA_CHECK(cudaStreamSynchronize(stream_));
+  ReadBack(stream_).add(&selected, selected_count_.data()).wait();
   return static_cast<std::size_t>(selected);
 }
 
@@ -532,30 +539,40 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
                                                                          flags_.data());
     SNAG_CUDA_CHECK_LAUNCH();
     // The time search runs on the compacted survivors of the early exits, in
-    // full warps.
-    const std::size_t survivors = select_flagged(count);
-    if (survivors > 0) {
-      // The isolated queries take the room the hits' events take later
-      // (kCcdEventBytesPerCandidate per candidate), in slices of survivors.
-      const std::size_t slice =
-          std::max<std::size_t>(1, std::min(survivors, count * kCcdEventBytesPerCandidate / sizeof(IsolatedQuery)));
-      IsolatedQuery* isolated = gathered_as<IsolatedQuery>(slice, "isolated CCD queries");
-      for (std::size_t at = 0; at < survivors; at += slice) {
-        const std::size_t n = std::min(slice, survivors - at);
-        quick_counts_.fill_zero();
-        const unsigned int quick_blocks = std::min(blocks_for(n), quick_block_limit_);
-        ccd_quick_kernel<<<quick_blocks, kBlockSize, 0, stream_>>>(
-            query, selected_.data() + at, n, settings, results_.data(), flags_.data(), isolated, quick_counts_.data());
-        SNAG_CUDA_CHECK_LAUNCH();
-        const unsigned int refine_blocks = std::min(blocks_for(n), refine_block_limit_);
-        ccd_refine_kernel<<<refine_blocks, kBlockSize, 0, stream_>>>(query, isolated, quick_counts_.data() + 1,
-                                                                     settings, results_.data(), flags_.data());
-        SNAG_CUDA_CHECK_LAUNCH();
-      }
-      if (!search) {
-        mark_undecided_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(selected_.data(), survivors,
-                                                                                flags_.data(), results_.data());
-      }
+    // full warps, in slices: the isolated queries take the room the hits'
+    // events take later (kCcdEventBytesPerCandidate per candidate). The
+    // first slice, as large as the last round's survivors with room to
+    // spare, is enqueued before the survivors are counted on the host: its
+    // kernels read their count on the device; more slices follow when they
+    // were more.
+    select_flagged_on_device(count);
+    long long counted = 0;
+    ReadBack survivors_read(stream_);
+    survivors_read.add(&counted, selected_count_.data()).start();
+    const std::size_t slice =
+        std::max<std::size_t>(1, std::min(count, count * kCcdEventBytesPerCandidate / sizeof(IsolatedQuery)));
+    auto search_slice = [&](std::size_t at, std::size_t room) {
+      IsolatedQuery* isolated = gathered_as<IsolatedQuery>(room, "isolated CCD queries");
+      quick_counts_.fill_zero();
+      const unsigned int quick_blocks = std::min(blocks_for(room), quick_block_limit_);
+      ccd_quick_kernel<<<quick_blocks, kBlockSize, 0, stream_>>>(query, selected_.data(), selected_count_.data(), at,
+                                                                 room, settings, results_.data(), flags_.data(),
+                                                                 isolated, quick_counts_.data());
+      SNAG_CUDA_CHECK_LAUNCH();
+      const unsigned int refine_blocks = std::min(blocks_for(room), refine_block_limit_);
+      ccd_refine_kernel<<<refine_blocks, kBlockSize, 0, stream_>>>(query, isolated, quick_counts_.data() + 1, settings,
+                                                                   results_.data(), flags_.data());
+      SNAG_CUDA_CHECK_LAUNCH();
+    };
+    const std::size_t first_room = std::min(slice, last_survivors_ + last_survivors_ / 4 + 1024);
+    search_slice(0, first_room);
+    survivors_read.wait();
+    const auto survivors = static_cast<std::size_t>(counted);
+    last_survivors_ = survivors;
+    for (std::size_t at = first_room; at < survivors; at += slice) search_slice(at, std::min(slice, survivors - at));
+    if (!search && survivors > 0) {
+      mark_undecided_kernel<<<blocks_for(survivors), kBlockSize, 0, stream_>>>(selected_.data(), survivors,
+                                                                               flags_.data(), results_.data());
     }
   } else {
     ccd_full_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(query, nullptr, count, nullptr, nullptr, settings,

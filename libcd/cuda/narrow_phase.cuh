@@ -234,6 +234,10 @@ class CudaNarrowPhase {
   template <class Launch>
   void stage_events(std::size_t hits, std::size_t slice, Launch launch);
   void append_staged_events(std::size_t count, std::vector<Event>& events);
+  /// Compacts the indices k < count of the flagged candidates into
+  /// selected_ and their count into selected_count_, on the device.
+  void select_flagged_on_device(std::size_t count);
+  /// select_flagged_on_device, and the count read back.
   std::size_t select_flagged(std::size_t count);
   /// Gathers items[selected_[k]] for k < count on the device and queues their
   /// copy to pinned host memory; the returned array is valid once the stream
@@ -267,6 +271,7 @@ class CudaNarrowPhase {
   bool defer_events_ = false;
   NarrowPhaseTimings timings_;
   std::size_t chunk_size_ = kDefaultChunkSize;
+  std::size_t last_survivors_ = 0;       ///< the last round's candidates the early exits left to the time search
   unsigned int refine_block_limit_ = 1;  ///< the refine kernel's blocks: kRefineBlocksPerSm per multiprocessor
   unsigned int quick_block_limit_ = 1;   ///< the quick kernel's blocks: kQuickBlocksPerSm per multiprocessor
 };

@@ -141,6 +141,39 @@ TEST_F(DeviceBufferTest, ReadBackGivesEveryValueAtItsPlace) {
   SNAG_CUDA_CHECK(cudaStreamDestroy(stream));
 }
 
+// start() takes the values where it stands in the stream: work enqueued
+// after it (the buffer zeroed, a large copy over it) does not change them.
+TEST_F(DeviceBufferTest, StartedReadBackGivesTheValuesBeforeLaterWork) {
+  cudaStream_t stream = nullptr;
+  SNAG_CUDA_CHECK(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking));
+  {
+    std::vector<std::uint64_t> values(1 << 20);
+    std::iota(values.begin(), values.end(), std::uint64_t{7});
+    DeviceBuffer<std::uint64_t> d_values(0, stream), d_other(0, stream);
+    d_values.upload(values);
+    d_other.upload(std::vector<std::uint64_t>(values.size(), 5));
+    for (int round = 0; round < 3; ++round) {
+      std::uint64_t first = 0, last_two[2] = {0, 0};
+      ReadBack read(stream);
+      read.add(&first, d_values.data()).add(last_two, d_values.data() + values.size() - 2, 2).start();
+      SNAG_CUDA_CHECK(cudaMemcpyAsync(d_values.data(), d_other.data(), values.size() * sizeof(std::uint64_t),
+                                      cudaMemcpyDeviceToDevice, stream));
+      d_values.fill_zero();
+      read.wait();
+      EXPECT_EQ(first, values.front());
+      EXPECT_EQ(last_two[0], values[values.size() - 2]);
+      EXPECT_EQ(last_two[1], values.back());
+      d_values.upload(values);
+    }
+    // The work enqueued before start() is in what it reads.
+    d_values.fill_zero();
+    std::uint64_t zeroed = 1;
+    ReadBack(stream).add(&zeroed, d_values.data()).start().wait();
+    EXPECT_EQ(zeroed, 0u);
+  }
+  SNAG_CUDA_CHECK(cudaStreamDestroy(stream));
+}
+
 TEST_F(DeviceBufferTest, EmptyBufferHoldsNoMemory) {
   DeviceMemoryTracker& tracker = DeviceMemoryTracker::instance();
   const std::size_t base = tracker.current_bytes();
