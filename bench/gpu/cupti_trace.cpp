@@ -8,9 +8,15 @@
 // the CSV: the device's busy and idle time per step, the kernels' totals and
 // the gaps between device work (see the README's benchmarks).
 //
-// CSV columns: kind (kernel, memcpy, memset), start_ns, end_ns, stream, bytes
-// (copies and memsets; 0 for kernels), name (kernels: the mangled name;
-// copies: HtoD, DtoH, DtoD, ...). Times are CUPTI's, in nanoseconds.
+// With SNAG_CUPTI_API=1 the host's CUDA runtime calls are recorded too, as
+// rows of kind api: which thread called what and when (a launch, a copy, a
+// wait), to see where the threads that drive the device are when it idles.
+//
+// CSV columns: kind (kernel, memcpy, memset, api), start_ns, end_ns, stream
+// (api: the calling thread's id), bytes (copies and memsets; api: the call's
+// correlation id; 0 for kernels), name (kernels: the mangled name; copies:
+// HtoD, DtoH, DtoD, ...; api: the runtime function). Times are CUPTI's, in
+// nanoseconds.
 #include <cupti.h>
 
 #include <cerrno>
@@ -90,6 +96,13 @@ void CUPTIAPI buffer_completed(CUcontext, std::uint32_t, std::uint8_t* buffer, s
         read.push_back({"memset", set->start, set->end, set->streamId, set->bytes, "memset"});
         break;
       }
+      case CUPTI_ACTIVITY_KIND_RUNTIME: {
+        const auto* call = reinterpret_cast<const CUpti_ActivityAPI*>(record);
+        const char* name = nullptr;
+        if (cuptiGetCallbackName(CUPTI_CB_DOMAIN_RUNTIME_API, call->cbid, &name) != CUPTI_SUCCESS) name = nullptr;
+        read.push_back({"api", call->start, call->end, call->threadId, call->correlationId, name != nullptr ? name : "?"});
+        break;
+      }
       default:
         break;
     }
@@ -131,6 +144,9 @@ extern "C" int InitializeInjection(void) {
   for (CUpti_ActivityKind kind :
        {CUPTI_ACTIVITY_KIND_CONCURRENT_KERNEL, CUPTI_ACTIVITY_KIND_MEMCPY, CUPTI_ACTIVITY_KIND_MEMSET})
     report_cupti(cuptiActivityEnable(kind), "cuptiActivityEnable");
+  const char* api = std::getenv("SNAG_CUPTI_API");
+  if (api != nullptr && std::strcmp(api, "1") == 0)
+    report_cupti(cuptiActivityEnable(CUPTI_ACTIVITY_KIND_RUNTIME), "cuptiActivityEnable");
   std::atexit(write_trace);
   return 1;
 }

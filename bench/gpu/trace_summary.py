@@ -108,6 +108,8 @@ def main():
     rows = []
     with open(args.trace, newline="") as f:
         for row in csv.DictReader(f):
+            if row["kind"] == "api":  # the host's calls (SNAG_CUPTI_API=1): not device work
+                continue
             rows.append((row["kind"], int(row["start_ns"]), int(row["end_ns"]), row["stream"], int(row["bytes"]),
                          row["name"]))
     if not rows:

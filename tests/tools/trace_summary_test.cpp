@@ -1,6 +1,7 @@
 // bench/gpu/trace_summary.py on hand-made device timelines (the CSV that
 // libsnag_cupti_trace.so writes), whose busy and idle time, gaps, kernels and
-// copies per step are known by construction.
+// copies per step are known by construction; the host's calls in the same
+// CSV are left out.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -59,6 +60,21 @@ TEST(TraceSummary, BusyIdleGapsKernelsAndCopiesPerStep) {
   const std::size_t pairs = run.out.find("0.400        1.0  ");
   ASSERT_NE(pairs, std::string::npos) << run.out;
   EXPECT_LT(pairs, run.out.find("0.100        1.0  ")) << run.out;
+}
+
+// The host's calls (SNAG_CUPTI_API=1) are not device work: a wait over each
+// step's idle time and a launch beside it change nothing in the summary.
+TEST(TraceSummary, HostCallsAreLeftOut) {
+  TemporaryDirectory dir;
+  std::string csv = timeline(9);
+  for (int k = 0; k < 9; ++k) {
+    const long long t = 5'000'000'000LL + k * 1'000'000LL;
+    csv += "api," + std::to_string(t + 600'000) + "," + std::to_string(t + 1'000'000) + ",4242,77,cudaStreamSynchronize\n";
+    csv += "api," + std::to_string(t + 10'000) + "," + std::to_string(t + 15'000) + ",4243,78,cudaLaunchKernel\n";
+  }
+  const ProcessResult plain = summarize(timeline(9), dir), with_calls = summarize(csv, dir);
+  ASSERT_EQ(with_calls.exit_code, 0) << with_calls.err;
+  EXPECT_EQ(with_calls.out, plain.out);
 }
 
 TEST(TraceSummary, TooFewStepsIsAnError) {
