@@ -131,8 +131,8 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   DeviceMemoryTracker::set_stage("broad phase: bounds");
   BoundsSummary bounded_by;
   compute_primitive_bounds_on_device(b.topology.triangles.data(), triangle_count, b.topology.edges.data(), edge_count,
-                                     d_x_t0, d_x_t1, vertex_count, settings_.thickness, subdivide_, b.bounds, stream,
-                                     bounded_by, budget_check("bounds"));
+                                     d_x_t0, d_x_t1, vertex_count, settings_.thickness, subdivide_, with_features,
+                                     b.bounds, stream, bounded_by, budget_check("bounds"));
   double size = 0;
   if (triangle_count > 0) {
     size = subdivide_ ? 3.0 * settings_.lambda *

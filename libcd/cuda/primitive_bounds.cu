@@ -73,14 +73,18 @@ __global__ void edge_bounds_kernel(const Edge* edges, std::size_t n, const Vec3*
   boxes[e] = float_box_of(dop);
 }
 
+/// The vertices' swept DOPs and their float boxes (none when `dops` is null),
+/// and the scene box over both frames' positions.
 __global__ void vertex_bounds_kernel(std::size_t n, const Vec3* x_t0, const Vec3* x_t1, double thickness, Dop18* dops,
                                      FloatBox* boxes, BoundsReduction* reduced) {
   const std::uint64_t v = thread_item();
   std::uint64_t keys[12] = {};
   if (v < n) {
-    const Dop18 dop = swept_dop(&x_t0[v], &x_t1[v], 1, thickness);
-    dops[v] = dop;
-    boxes[v] = float_box_of(dop);
+    if (dops != nullptr) {
+      const Dop18 dop = swept_dop(&x_t0[v], &x_t1[v], 1, thickness);
+      dops[v] = dop;
+      boxes[v] = float_box_of(dop);
+    }
     const Vec3 frames[2] = {x_t0[v], x_t1[v]};
     for (int k = 0; k < 2; ++k) {
       const double p[3] = {frames[k].x, frames[k].y, frames[k].z};
@@ -125,19 +129,21 @@ __global__ void radius_sum_kernel(const double* radii, std::size_t n, BoundsRedu
 void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t triangle_count, const Edge* edges,
                                         std::size_t edge_count, const Vec3* x_t0, const Vec3* x_t1,
                                         std::size_t vertex_count, double thickness, bool with_radius_sum,
-                                        DevicePrimitiveBounds& out, cudaStream_t stream, BoundsSummary& summary,
-                                        const GrowthCheck& check) {
+                                        bool with_features, DevicePrimitiveBounds& out, cudaStream_t stream,
+                                        BoundsSummary& summary, const GrowthCheck& check) {
+  // The edges' and vertices' bounds only for the feature stage.
+  const std::size_t feature_edges = with_features ? edge_count : 0, feature_vertices = with_features ? vertex_count : 0;
   check_growth(check, out.triangles.growth_bytes(triangle_count) + out.triangle_boxes.growth_bytes(triangle_count) +
-                          out.triangle_radii.growth_bytes(triangle_count) + out.edges.growth_bytes(edge_count) +
-                          out.vertices.growth_bytes(vertex_count) + out.edge_boxes.growth_bytes(edge_count) +
-                          out.vertex_boxes.growth_bytes(vertex_count) + out.reduced.growth_bytes(1));
+                          out.triangle_radii.growth_bytes(triangle_count) + out.edges.growth_bytes(feature_edges) +
+                          out.vertices.growth_bytes(feature_vertices) + out.edge_boxes.growth_bytes(feature_edges) +
+                          out.vertex_boxes.growth_bytes(feature_vertices) + out.reduced.growth_bytes(1));
   out.triangles.resize(triangle_count);
   out.triangle_boxes.resize(triangle_count);
   out.triangle_radii.resize(triangle_count);
-  out.edges.resize(edge_count);
-  out.vertices.resize(vertex_count);
-  out.edge_boxes.resize(edge_count);
-  out.vertex_boxes.resize(vertex_count);
+  out.edges.resize(feature_edges);
+  out.vertices.resize(feature_vertices);
+  out.edge_boxes.resize(feature_edges);
+  out.vertex_boxes.resize(feature_vertices);
   out.reduced.resize(1);
   BoundsReduction* reduced = out.reduced.data();
   SNAG_CUDA_CHECK(cudaMemsetAsync(reduced, 0, sizeof(BoundsReduction), stream));
@@ -152,14 +158,15 @@ void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t t
       SNAG_CUDA_CHECK_LAUNCH();
     }
   }
-  if (edge_count > 0) {
+  if (feature_edges > 0) {
     edge_bounds_kernel<<<blocks_for(edge_count), detail::kBlockSize, 0, stream>>>(
         edges, edge_count, x_t0, x_t1, thickness, out.edges.data(), out.edge_boxes.data());
     SNAG_CUDA_CHECK_LAUNCH();
   }
-  if (vertex_count > 0) {
+  if (vertex_count > 0) {  // the scene box, with or without the vertices' bounds
     vertex_bounds_kernel<<<blocks_for(vertex_count), detail::kBlockSize, 0, stream>>>(
-        vertex_count, x_t0, x_t1, thickness, out.vertices.data(), out.vertex_boxes.data(), reduced);
+        vertex_count, x_t0, x_t1, thickness, with_features ? out.vertices.data() : nullptr,
+        with_features ? out.vertex_boxes.data() : nullptr, reduced);
     SNAG_CUDA_CHECK_LAUNCH();
   }
   BoundsReduction host;

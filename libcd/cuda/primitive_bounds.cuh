@@ -59,7 +59,8 @@ struct DevicePrimitiveBounds {
         reduced(0, stream) {}
 };
 
-/// Computes the DOPs and radii of all primitives, their float boxes, the
+/// Computes the DOPs and radii of the triangles and, with with_features, of
+/// the edges and vertices (the feature stage's), their float boxes, the
 /// scene box (inflated by thickness and rounding pad exactly as
 /// compute_primitive_bounds), the largest radius and, with with_radius_sum,
 /// the exact sum of the radii (radius_sum.hpp, as the CPU's cell size takes
@@ -73,7 +74,7 @@ struct DevicePrimitiveBounds {
 void compute_primitive_bounds_on_device(const Triangle* triangles, std::size_t triangle_count, const Edge* edges,
                                         std::size_t edge_count, const Vec3* x_t0, const Vec3* x_t1,
                                         std::size_t vertex_count, double thickness, bool with_radius_sum,
-                                        DevicePrimitiveBounds& out, cudaStream_t stream, BoundsSummary& summary,
-                                        const GrowthCheck& check = {});
+                                        bool with_features, DevicePrimitiveBounds& out, cudaStream_t stream,
+                                        BoundsSummary& summary, const GrowthCheck& check = {});
 
 }  // namespace snag
