@@ -188,15 +188,15 @@ __global__ void __launch_bounds__(kBlockSize, 4)
   flags[i] = !decided ? kUndecided : screened(result);
 }
 
-// The screen, step 2: the candidates subset[k] = selected[first + k], k <
-// count, count = min(room, *selected_count - first) (0 past the end), that
-// step 1 left undecided get the rest of the quick part (the decisions by structure and
-// the time search; their early exits decided nothing), which updates their
-// result and flag in place. A search that isolates its earliest contact (a
-// hit, nearly always) stops there and is appended to `isolated` (room for
-// `room`; counts[1] counts them), flagged kIsolated: the halvings
-// down to the time tolerance, the longest part of a hit's search, run in
-// ccd_refine_kernel with every lane of a warp on a hit.
+// The screen, step 2: the candidates subset[k] = selected[first + k] for k
+// below count = min(room, *selected_count - first) (0 past the end), which
+// step 1 left undecided, get the rest of the quick part (the decisions by
+// structure and the time search; their early exits decided nothing), which
+// updates their result and flag in place. A search that isolates its
+// earliest contact (a hit, nearly always) stops there and is appended to
+// `isolated` (room for `room`; counts[1] counts them), flagged kIsolated:
+// the halvings down to the time tolerance, the longest part of a hit's
+// search, run in ccd_refine_kernel with every lane of a warp on a hit.
 //
 // The searches take from 3 to some 60 intervals, so a lane does not hold
 // one query: each lane advances its search, a round at a time, to the next
