@@ -38,6 +38,24 @@ __device__ __forceinline__ unsigned long long warp_append(bool take, unsigned lo
   return base + __popc(mask & ((1u << lane) - 1u));
 }
 
+/// Copies the warp's `count` records staged in shared memory to out[0,
+/// count) in 8-byte words, lane l the words l, l + 32, ...: the warp's stores
+/// lie in one piece, where the records a thread each would store lie
+/// sizeof(T) bytes apart. Syncs the warp before (the lanes' records are
+/// staged) and after (the stage may be written again). Every lane of the
+/// warp must call it.
+template <class T>
+__device__ __forceinline__ void warp_copy_run(const T* stage, std::uint64_t count, T* out) {
+  static_assert(sizeof(T) % sizeof(std::uint64_t) == 0 && alignof(T) >= alignof(std::uint64_t),
+                "the records are copied in 8-byte words");
+  constexpr std::uint64_t kWords = sizeof(T) / sizeof(std::uint64_t);
+  __syncwarp();
+  const auto* from = reinterpret_cast<const std::uint64_t*>(stage);
+  auto* to = reinterpret_cast<std::uint64_t*>(out);
+  for (std::uint64_t w = threadIdx.x & 31u; w < count * kWords; w += 32) to[w] = from[w];
+  __syncwarp();
+}
+
 /// A warp's list in shared memory, of which every lane holds the length
 /// `count`: appends the items of the lanes with `take` set, in lane order.
 /// Every lane of the warp must call it.

@@ -84,14 +84,26 @@ __global__ void examine_kernel(const DeviceLevelItem* items, const LevelState* l
   tally[i] = t;
 }
 
+/// write_kernel's block: its warps' leaves staged in shared memory (128 of
+/// them, 33 kB) before they are written.
+constexpr unsigned kWriteBlock = 128;
+
 /// Pass 3: leaves and children, as the CPU's third pass, within the rooms
 /// (leaves: all levels'; next: the next level's items). The first thread
 /// records the level's total and the next level's state (level[1]), with
-/// `overflow` set when a room was short.
-__global__ void write_kernel(const DeviceLevelItem* items, LevelState* level, std::size_t room, const Triangle* tris,
-                             const Vec3* x_t0, const Vec3* x_t1, GridSpec grid, double thickness,
-                             const std::uint8_t* decision, const CellCoord* home, const SplitTally* offset,
-                             Leaf* leaves, std::size_t leaf_room, DeviceLevelItem* next, std::size_t next_room) {
+/// `overflow` set when a room was short. A warp's leaves are consecutive in
+/// `leaves`: each lane builds its leaf in shared memory, and the warp writes
+/// them in one piece, 8 bytes a lane (a leaf a thread wrote 264 bytes apart
+/// from its neighbours').
+__global__ void __launch_bounds__(kWriteBlock)
+    write_kernel(const DeviceLevelItem* items, LevelState* level, std::size_t room, const Triangle* tris,
+                 const Vec3* x_t0, const Vec3* x_t1, GridSpec grid, double thickness, const std::uint8_t* decision,
+                 const CellCoord* home, const SplitTally* offset, Leaf* leaves, std::size_t leaf_room,
+                 DeviceLevelItem* next, std::size_t next_room) {
+  // Raw storage: shared variables take no initializers, and Leaf has them.
+  __shared__ alignas(alignof(Leaf)) unsigned char staging[kWriteBlock * sizeof(Leaf)];
+  const unsigned lane = threadIdx.x & 31u;
+  Leaf* const staged = reinterpret_cast<Leaf*>(staging) + (threadIdx.x - lane);
   const std::uint64_t i = thread_item();
   const std::uint64_t n = items_within(*level, room), leaf_base = level->leaf_base;
   if (i == 0) {
@@ -101,12 +113,17 @@ __global__ void write_kernel(const DeviceLevelItem* items, LevelState* level, st
         SplitTally{}, total.children, leaf_base + total.leaves,
         level->overflow || level->items > room || total.children > next_room || leaf_base + total.leaves > leaf_room};
   }
-  if (i >= n) return;
-  const DeviceLevelItem item = items[i];
-  const SplitDecision d = static_cast<SplitDecision>(decision[i]);
-  if (is_leaf(d)) {
-    if (leaf_base + offset[i].leaves >= leaf_room) return;
-    Leaf& leaf = leaves[leaf_base + offset[i].leaves];
+  const bool valid = i < n;
+  DeviceLevelItem item;
+  SplitDecision d = SplitDecision::kAccept;
+  if (valid) {
+    item = items[i];
+    d = static_cast<SplitDecision>(decision[i]);
+  }
+  const bool is_leaf_here = valid && is_leaf(d);
+  const unsigned leaf_lanes = __ballot_sync(0xffffffffu, is_leaf_here);
+  if (is_leaf_here) {
+    Leaf& leaf = staged[__popc(leaf_lanes & ((1u << lane) - 1u))];
     leaf.triangle = item.triangle;
     Vec3 p_t0[3], p_t1[3], points[6];
     swept_points_of(item.triangle, tris, x_t0, x_t1, p_t0, p_t1, points);
@@ -123,7 +140,17 @@ __global__ void write_kernel(const DeviceLevelItem* items, LevelState* level, st
     }
     cells.control_bits = make_control_bits(cells);
     leaf.cells = cells;
-  } else if (d == SplitDecision::kSubdivide) {
+  }
+  if (leaf_lanes != 0) {
+    // The warp's leaves start at its first leaf lane's; those past the room are left out.
+    const std::uint64_t first =
+        leaf_base + __shfl_sync(0xffffffffu, is_leaf_here ? offset[i].leaves : 0, __ffs(leaf_lanes) - 1);
+    const std::uint64_t count = __popc(leaf_lanes);
+    detail::warp_copy_run(staged, first < leaf_room ? (count < leaf_room - first ? count : leaf_room - first) : 0,
+                          leaves + first);
+  }
+  if (!valid || is_leaf(d)) return;
+  if (d == SplitDecision::kSubdivide) {
     const std::uint64_t o = offset[i].children;
     if (o + 4 > next_room) return;
     VirtualTriangle child[4];
@@ -180,7 +207,8 @@ void run_level(const SubdivisionInputs& in, std::size_t room, LevelState* state,
     ReadBack(stream).add(total, b.tally.data() + room).wait();
     size_rooms(*total);
   }
-  write_kernel<<<blocks_for(std::max<std::size_t>(room, 1)), detail::kBlockSize, 0, stream>>>(
+  const auto write_blocks = static_cast<unsigned>((std::max<std::size_t>(room, 1) + kWriteBlock - 1) / kWriteBlock);
+  write_kernel<<<write_blocks, kWriteBlock, 0, stream>>>(
       b.items.data(), state, room, in.triangles, in.x_t0, in.x_t1, in.grid, in.thickness, b.decision.data(),
       b.home.data(), b.tally.data(), b.leaves.data(), b.leaves.size(), b.next.data(), b.next.size());
   SNAG_CUDA_CHECK_LAUNCH();
