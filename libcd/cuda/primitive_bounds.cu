@@ -41,50 +41,75 @@ __device__ void block_max_to(const std::uint64_t (&keys)[count], std::uint64_t* 
     atomicMax(reinterpret_cast<unsigned long long*>(to + threadIdx.x), block[threadIdx.x]);
 }
 
+/// A block's DOPs staged in shared memory: each warp writes its 32 in one
+/// piece (detail::warp_copy_run; 144 bytes a thread, stored by itself, lay
+/// 144 bytes apart from its neighbours'). Every thread of the block calls
+/// write, with the DOP of item i (valid when i < n).
+struct DopStage {
+  // Raw storage: shared variables take no initializers.
+  unsigned char storage[detail::kBlockSize * sizeof(Dop18)];
+  __device__ void write(const Dop18& dop, std::uint64_t i, std::size_t n, Dop18* dops) {
+    const unsigned lane = threadIdx.x & 31u;
+    Dop18* const warp_stage = reinterpret_cast<Dop18*>(storage) + (threadIdx.x - lane);
+    const std::uint64_t first = i - lane;
+    if (i < n) warp_stage[lane] = dop;
+    detail::warp_copy_run(warp_stage, first < n ? (n - first < 32 ? n - first : 32) : 0, dops + first);
+  }
+};
+
 __global__ void triangle_bounds_kernel(const Triangle* tris, std::size_t n, const Vec3* x_t0, const Vec3* x_t1,
                                        double thickness, Dop18* dops, FloatBox* boxes, double* radii,
                                        BoundsReduction* reduced) {
+  __shared__ alignas(alignof(Dop18)) DopStage stage;
   const std::uint64_t f = thread_item();
   std::uint64_t key[1] = {0};
+  Dop18 dop;
   if (f < n) {
     const Triangle t = tris[f];
     const Vec3 c_t0[3] = {x_t0[t[0]], x_t0[t[1]], x_t0[t[2]]};
     const Vec3 c_t1[3] = {x_t1[t[0]], x_t1[t[1]], x_t1[t[2]]};
-    const Dop18 dop = swept_dop(c_t0, c_t1, 3, thickness);
-    dops[f] = dop;
+    dop = swept_dop(c_t0, c_t1, 3, thickness);
     boxes[f] = float_box_of(dop);
     const Vec3 points[6] = {c_t0[0], c_t0[1], c_t0[2], c_t1[0], c_t1[1], c_t1[2]};
     const double radius = sphere_of_points(points, 6).radius + thickness;
     radii[f] = radius;
     key[0] = order_key(radius);
   }
+  stage.write(dop, f, n, dops);
   block_max_to(key, &reduced->max_radius);
 }
 
 __global__ void edge_bounds_kernel(const Edge* edges, std::size_t n, const Vec3* x_t0, const Vec3* x_t1,
                                    double thickness, Dop18* dops, FloatBox* boxes) {
+  __shared__ alignas(alignof(Dop18)) DopStage stage;
   const std::uint64_t e = thread_item();
-  if (e >= n) return;
-  const Edge g = edges[e];
-  const Vec3 c_t0[2] = {x_t0[g[0]], x_t0[g[1]]};
-  const Vec3 c_t1[2] = {x_t1[g[0]], x_t1[g[1]]};
-  const Dop18 dop = swept_dop(c_t0, c_t1, 2, thickness);
-  dops[e] = dop;
-  boxes[e] = float_box_of(dop);
+  Dop18 dop;
+  if (e < n) {
+    const Edge g = edges[e];
+    const Vec3 c_t0[2] = {x_t0[g[0]], x_t0[g[1]]};
+    const Vec3 c_t1[2] = {x_t1[g[0]], x_t1[g[1]]};
+    dop = swept_dop(c_t0, c_t1, 2, thickness);
+    boxes[e] = float_box_of(dop);
+  }
+  stage.write(dop, e, n, dops);
 }
 
 /// The vertices' swept DOPs and their float boxes (none when `dops` is null),
 /// and the scene box over both frames' positions.
 __global__ void vertex_bounds_kernel(std::size_t n, const Vec3* x_t0, const Vec3* x_t1, double thickness, Dop18* dops,
                                      FloatBox* boxes, BoundsReduction* reduced) {
+  __shared__ alignas(alignof(Dop18)) DopStage stage;
   const std::uint64_t v = thread_item();
   std::uint64_t keys[12] = {};
-  if (v < n) {
-    if (dops != nullptr) {
-      const Dop18 dop = swept_dop(&x_t0[v], &x_t1[v], 1, thickness);
-      dops[v] = dop;
+  if (dops != nullptr) {  // the same for every thread
+    Dop18 dop;
+    if (v < n) {
+      dop = swept_dop(&x_t0[v], &x_t1[v], 1, thickness);
       boxes[v] = float_box_of(dop);
     }
+    stage.write(dop, v, n, dops);
+  }
+  if (v < n) {
     const Vec3 frames[2] = {x_t0[v], x_t1[v]};
     for (int k = 0; k < 2; ++k) {
       const double p[3] = {frames[k].x, frames[k].y, frames[k].z};
