@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 namespace snag::detail {
 
@@ -39,22 +40,38 @@ __device__ __forceinline__ unsigned long long warp_append(bool take, unsigned lo
 }
 
 /// Copies the warp's `count` records staged in shared memory to out[0,
-/// count) in 8-byte words, lane l the words l, l + 32, ...: the warp's stores
-/// lie in one piece, where the records a thread each would store lie
-/// sizeof(T) bytes apart. Syncs the warp before (the lanes' records are
-/// staged) and after (the stage may be written again). Every lane of the
-/// warp must call it.
+/// count) in 8-byte words (4-byte words for records aligned to 4), lane l
+/// the words l, l + 32, ...: the warp's stores lie in one piece, where the
+/// records a thread each would store lie sizeof(T) bytes apart. Syncs the
+/// warp before (the lanes' records are staged) and after (the stage may be
+/// written again). Every lane of the warp must call it.
 template <class T>
 __device__ __forceinline__ void warp_copy_run(const T* stage, std::uint64_t count, T* out) {
-  static_assert(sizeof(T) % sizeof(std::uint64_t) == 0 && alignof(T) >= alignof(std::uint64_t),
-                "the records are copied in 8-byte words");
-  constexpr std::uint64_t kWords = sizeof(T) / sizeof(std::uint64_t);
+  using Word = std::conditional_t<alignof(T) >= 8 && sizeof(T) % 8 == 0, std::uint64_t, std::uint32_t>;
+  static_assert(sizeof(T) % sizeof(Word) == 0 && alignof(T) >= alignof(Word), "records are copied in whole words");
+  constexpr std::uint64_t kWords = sizeof(T) / sizeof(Word);
   __syncwarp();
-  const auto* from = reinterpret_cast<const std::uint64_t*>(stage);
-  auto* to = reinterpret_cast<std::uint64_t*>(out);
+  const auto* from = reinterpret_cast<const Word*>(stage);
+  auto* to = reinterpret_cast<Word*>(out);
   for (std::uint64_t w = threadIdx.x & 31u; w < count * kWords; w += 32) to[w] = from[w];
   __syncwarp();
 }
+
+/// Shared memory for a block of `threads` records of T, one a thread (raw:
+/// shared variables take no initializers): each warp stages its records
+/// there and writes them in one piece (warp_copy_run). Every thread of the
+/// block calls write, with record i (valid when i < n) for out[i].
+template <class T, unsigned threads>
+struct WarpRunStage {
+  alignas(alignof(T)) unsigned char storage[threads * sizeof(T)];
+  __device__ void write(const T& record, std::uint64_t i, std::uint64_t n, T* out) {
+    const unsigned lane = threadIdx.x & 31u;
+    T* const warp_stage = reinterpret_cast<T*>(storage) + (threadIdx.x - lane);
+    const std::uint64_t first = i - lane;
+    if (i < n) warp_stage[lane] = record;
+    warp_copy_run(warp_stage, first < n ? (n - first < 32 ? n - first : 32) : 0, out + first);
+  }
+};
 
 /// A warp's list in shared memory, of which every lane holds the length
 /// `count`: appends the items of the lanes with `take` set, in lane order.

@@ -12,6 +12,7 @@
 
 #include "libcd/cuda/cuda_check.cuh"
 #include "libcd/cuda/cuda_event.cuh"
+#include "libcd/cuda/launch.cuh"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
@@ -332,10 +333,14 @@ __global__ void gather_kernel(const T* __restrict__ items, const std::uint32_t* 
 template <class Query>
 __global__ void collision_event_kernel(Query query, const std::uint32_t* __restrict__ subset, std::size_t count,
                                        const CcdResult* __restrict__ results, Event* __restrict__ events) {
+  __shared__ detail::WarpRunStage<Event, kBlockSize> stage;  // 72 bytes a thread, written a warp in one piece
   const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
-  if (k >= count) return;
-  const std::uint32_t i = subset[k];
-  events[k] = query.event(i, results[i]);
+  Event event;
+  if (k < count) {
+    const std::uint32_t i = subset[k];
+    event = query.event(i, results[i]);
+  }
+  stage.write(event, k, count, events);
 }
 
 // events[k] = the intersection event of the intersecting pair pairs[subset[k]], for k < count.
@@ -343,15 +348,19 @@ __global__ void intersection_event_kernel(const Vec3* __restrict__ x, const Inde
                                           const TrianglePair* __restrict__ pairs,
                                           const std::uint32_t* __restrict__ subset, std::size_t count,
                                           Event* __restrict__ events) {
+  __shared__ detail::WarpRunStage<Event, kBlockSize> stage;  // 72 bytes a thread, written a warp in one piece
   const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
-  if (k >= count) return;
-  const TrianglePair pair = pairs[subset[k]];
-  Vec3 a[3], b[3];
-  for (int c = 0; c < 3; ++c) {
-    a[c] = x[corners[3 * std::size_t{pair.a} + c]];
-    b[c] = x[corners[3 * std::size_t{pair.b} + c]];
+  Event event;
+  if (k < count) {
+    const TrianglePair pair = pairs[subset[k]];
+    Vec3 a[3], b[3];
+    for (int c = 0; c < 3; ++c) {
+      a[c] = x[corners[3 * std::size_t{pair.a} + c]];
+      b[c] = x[corners[3 * std::size_t{pair.b} + c]];
+    }
+    event = intersection_fields(pair.a, pair.b, a, b);
   }
-  events[k] = intersection_fields(pair.a, pair.b, a, b);
+  stage.write(event, k, count, events);
 }
 
 // The static test: thread i tests pair i; the predicate counters are summed

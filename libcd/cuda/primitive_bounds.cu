@@ -41,26 +41,14 @@ __device__ void block_max_to(const std::uint64_t (&keys)[count], std::uint64_t* 
     atomicMax(reinterpret_cast<unsigned long long*>(to + threadIdx.x), block[threadIdx.x]);
 }
 
-/// A block's DOPs staged in shared memory: each warp writes its 32 in one
-/// piece (detail::warp_copy_run; 144 bytes a thread, stored by itself, lay
-/// 144 bytes apart from its neighbours'). Every thread of the block calls
-/// write, with the DOP of item i (valid when i < n).
-struct DopStage {
-  // Raw storage: shared variables take no initializers.
-  unsigned char storage[detail::kBlockSize * sizeof(Dop18)];
-  __device__ void write(const Dop18& dop, std::uint64_t i, std::size_t n, Dop18* dops) {
-    const unsigned lane = threadIdx.x & 31u;
-    Dop18* const warp_stage = reinterpret_cast<Dop18*>(storage) + (threadIdx.x - lane);
-    const std::uint64_t first = i - lane;
-    if (i < n) warp_stage[lane] = dop;
-    detail::warp_copy_run(warp_stage, first < n ? (n - first < 32 ? n - first : 32) : 0, dops + first);
-  }
-};
+/// A block's DOPs, written a warp in one piece (144 bytes a thread, stored
+/// by itself, lay 144 bytes apart from its neighbours').
+using DopStage = detail::WarpRunStage<Dop18, detail::kBlockSize>;
 
 __global__ void triangle_bounds_kernel(const Triangle* tris, std::size_t n, const Vec3* x_t0, const Vec3* x_t1,
                                        double thickness, Dop18* dops, FloatBox* boxes, double* radii,
                                        BoundsReduction* reduced) {
-  __shared__ alignas(alignof(Dop18)) DopStage stage;
+  __shared__ DopStage stage;
   const std::uint64_t f = thread_item();
   std::uint64_t key[1] = {0};
   Dop18 dop;
@@ -81,7 +69,7 @@ __global__ void triangle_bounds_kernel(const Triangle* tris, std::size_t n, cons
 
 __global__ void edge_bounds_kernel(const Edge* edges, std::size_t n, const Vec3* x_t0, const Vec3* x_t1,
                                    double thickness, Dop18* dops, FloatBox* boxes) {
-  __shared__ alignas(alignof(Dop18)) DopStage stage;
+  __shared__ DopStage stage;
   const std::uint64_t e = thread_item();
   Dop18 dop;
   if (e < n) {
@@ -98,7 +86,7 @@ __global__ void edge_bounds_kernel(const Edge* edges, std::size_t n, const Vec3*
 /// and the scene box over both frames' positions.
 __global__ void vertex_bounds_kernel(std::size_t n, const Vec3* x_t0, const Vec3* x_t1, double thickness, Dop18* dops,
                                      FloatBox* boxes, BoundsReduction* reduced) {
-  __shared__ alignas(alignof(Dop18)) DopStage stage;
+  __shared__ DopStage stage;
   const std::uint64_t v = thread_item();
   std::uint64_t keys[12] = {};
   if (dops != nullptr) {  // the same for every thread

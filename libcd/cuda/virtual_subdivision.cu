@@ -38,12 +38,13 @@ __device__ __forceinline__ void swept_points_of(const VirtualTriangle& t, const 
 }
 
 __global__ void root_items_kernel(std::size_t n, DeviceLevelItem* items, LevelState* first) {
+  __shared__ detail::WarpRunStage<DeviceLevelItem, detail::kBlockSize> stage;  // 48 bytes a thread, in one piece
   const std::uint64_t f = thread_item();
   if (f == 0) *first = LevelState{SplitTally{}, n, 0, 0};
-  if (f >= n) return;
-  items[f].triangle = virtual_root(static_cast<Index>(f));
-  items[f].group_first = static_cast<std::uint32_t>(f);
-  items[f].group_size = 1;
+  DeviceLevelItem item;
+  item.triangle = virtual_root(static_cast<Index>(f));
+  item.group_first = static_cast<std::uint32_t>(f);
+  stage.write(item, f, n, items);
 }
 
 struct AddTallies {
