@@ -3,17 +3,24 @@
 //
 // Each bound is computed with one correctly rounded IEEE-754 operation (round
 // to nearest) and then stepped one unit in the last place outward (next_up,
-// next_down: nextafter by bit pattern). A correctly rounded result lies within half a unit of the exact
-// value, so the stepped bound is on the safe side of it (at a power of two the
-// unit below is half the unit above, and one step down is still a whole unit
-// of the lower binade). The enclosure therefore holds for every operation,
-// subnormal results included, without changing the rounding mode.
+// next_down: nextafter). A correctly rounded result lies within half a unit
+// of the exact value, so the stepped bound is on the safe side of it (at a
+// power of two the unit below is half the unit above, and one step down is
+// still a whole unit of the lower binade). The enclosure therefore holds for
+// every operation, subnormal results included, without changing the rounding
+// mode.
+//
+// The host steps the bit pattern; the device steps with one fused
+// multiply-add rounded outward, which gives the same doubles (see next_up).
+// The GPU's time search runs thousands of these a query, and the bit steps
+// took most of its code and time.
 //
 // Assumes round-to-nearest, no flush-to-zero, and double evaluated as double
 // (x86-64 SSE2, CUDA); a fused multiply-add is harmless because each bound is a
 // separate expression followed by a step outward.
 #pragma once
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -47,20 +54,36 @@ SNAG_HD_INLINE double double_of(int64_t bits) {
 
 }  // namespace interval_detail
 
-/// The next double above x: nextafter(x, +inf) for finite x, by stepping the
-/// bit pattern (a library call costs more than the interval operation it
-/// rounds). +inf and NaN are returned as they are; -0 and +0 step to the
-/// smallest positive subnormal. Written as selects, without branches: the
-/// GPU's time search runs thousands of these a query, and branches there
-/// cost a convergence barrier each.
+/// The next double above x: nextafter(x, +inf) for finite x. +inf and NaN
+/// are returned as they are; -0 and +0 step to the smallest positive
+/// subnormal, and -inf to -DBL_MAX.
+///
+/// The host steps the bit pattern (a library call costs more than the
+/// interval operation it rounds), written as selects, without branches. The
+/// device adds 2^-1075 exactly and rounds upward, one instruction: the sum
+/// lies strictly between x and the next double above it (doubles are at
+/// least 2^-1074 apart), and -2^-1074 gives -2^-1075, which rounds to -0 as
+/// the bit step does. Only -inf needs a case of its own.
 SNAG_HD_INLINE double next_up(double x) {
+#ifdef __CUDA_ARCH__
+  const double up = __fma_ru(interval_detail::double_of(1), 0.5, x);
+  return up < -DBL_MAX ? -DBL_MAX : up;
+#else
   const int64_t bits = interval_detail::bits_of(x);
   const int64_t stepped = bits + (bits < 0 ? int64_t{-1} : int64_t{1});  // away from zero above it, towards below
   const int64_t up = x == 0 ? int64_t{1} : stepped;
   return interval_detail::double_of(x < INFINITY ? up : bits);  // +inf and NaN as they are
+#endif
 }
 /// The next double below x (see next_up).
-SNAG_HD_INLINE double next_down(double x) { return -next_up(-x); }
+SNAG_HD_INLINE double next_down(double x) {
+#ifdef __CUDA_ARCH__
+  const double down = __fma_rd(interval_detail::double_of(1), -0.5, x);
+  return down > DBL_MAX ? DBL_MAX : down;
+#else
+  return -next_up(-x);
+#endif
+}
 
 /// The largest double not above the exact value that x approximates to
 /// within half a unit in the last place.
