@@ -145,6 +145,14 @@ constexpr unsigned kHistogramBuckets = 1024;
 /// every part of the grid. (test_kernel on cloth_ball: 2% shorter, H200.)
 constexpr std::uint64_t kTileRun = 4;
 
+/// The test kernel's threads a block, half the other kernels' kBlockSize:
+/// a block waits at a barrier for each of its tiles (one thread finds the
+/// tile's cell, then the block loads its members), and smaller blocks keep
+/// more of them resident to run between those waits. (test_kernel on
+/// cloth_ball, both detections: 1.09 -> 0.97 ms a step; 64 threads took
+/// 1.18, H200.)
+constexpr unsigned kTestBlock = 128;
+
 /// A registered leaf as a tile of one cell holds it: its root, its time slot
 /// and its cells as masks around the tile's cell (LocalCells).
 struct UniformTileMember {
@@ -287,7 +295,7 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// with one atomic per warp and round). Every thread of the block runs every
 /// round of a tile, so warp-wide operations see full warps.
 template <class Cells>
-__global__ void __launch_bounds__(detail::kBlockSize)
+__global__ void __launch_bounds__(kTestBlock)
     test_kernel(const std::uint64_t* first_tile, std::size_t cells, const std::uint64_t* row_begin,
                 const std::uint64_t* row_end, Cells source, const Dop18* triangle_dops, const FloatBox* triangle_boxes,
                 std::uint32_t range_first, std::uint32_t range_end, std::uint32_t bucket_width, int key_bits,
@@ -314,7 +322,7 @@ __global__ void __launch_bounds__(detail::kBlockSize)
   // once with all its lanes (a round's tests leave a few lanes with boxes
   // that meet), and reserves room for 32 kept keys with one atomic. The
   // counts are the same on every lane of the warp.
-  __shared__ std::uint64_t warp_waiting[detail::kBlockSize / 32][64], warp_keeping[detail::kBlockSize / 32][64];
+  __shared__ std::uint64_t warp_waiting[kTestBlock / 32][64], warp_keeping[kTestBlock / 32][64];
   const unsigned lane = threadIdx.x & 31u;
   std::uint64_t* const waiting = warp_waiting[threadIdx.x / 32];
   std::uint64_t* const keeping = warp_keeping[threadIdx.x / 32];
@@ -636,11 +644,11 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
   int device = 0, sms = 0, per_sm = 0;
   SNAG_CUDA_CHECK(cudaGetDevice(&device));
   SNAG_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
-  SNAG_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, test_kernel<Cells>, detail::kBlockSize, 0));
+  SNAG_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, test_kernel<Cells>, kTestBlock, 0));
   const auto resident_blocks = static_cast<std::uint64_t>(std::max(1, sms * std::max(1, per_sm)));
   // A warp's per-thread counts are summed in 32 bits: at most 2^27 rounds, a
-  // tile's rounds at most kPairTileSide² / kBlockSize.
-  const std::uint64_t rounds_per_tile = (kPairTileSide * kPairTileSide + detail::kBlockSize - 1) / detail::kBlockSize;
+  // tile's rounds at most kPairTileSide² / kTestBlock.
+  const std::uint64_t rounds_per_tile = (kPairTileSide * kPairTileSide + kTestBlock - 1) / kTestBlock;
   // (Checked after the pass when the counts come with it: its results are then not used.)
   auto check_rounds = [&](const Numbered& whole) {
     if ((whole.tiles / resident_blocks + kTileRun) * rounds_per_tile >= (std::uint64_t{1} << 27))
@@ -690,7 +698,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
       const std::uint64_t blocks =
           range_counts.known ? std::min<std::uint64_t>((range_counts.tiles + kTileRun - 1) / kTileRun, resident_blocks)
                              : resident_blocks;
-      test_kernel<Cells><<<static_cast<unsigned>(blocks), detail::kBlockSize, 0, stream>>>(
+      test_kernel<Cells><<<static_cast<unsigned>(blocks), kTestBlock, 0, stream>>>(
           p.first_tile.data(), cells, p.row_begin.data(), p.row_end.data(), source, triangle_dops, triangle_boxes,
           range.first, range.end, bucket_width, key_bits, p.histogram.data(), p.kept.data(), kept_room, count_culled,
           p.culled.data(), culled_room, p.counters.data());
