@@ -60,13 +60,16 @@ __device__ __forceinline__ void warp_copy_run(const T* stage, std::uint64_t coun
 /// Shared memory for a block of `threads` records of T, one a thread (raw:
 /// shared variables take no initializers): each warp stages its records
 /// there and writes them in one piece (warp_copy_run). Every thread of the
-/// block calls write, with record i (valid when i < n) for out[i].
+/// block calls write, with record i (valid when i < n) for out[i]; a kernel
+/// whose warps write fewer records (compacted) fills warp_records() itself.
 template <class T, unsigned threads>
 struct WarpRunStage {
   alignas(alignof(T)) unsigned char storage[threads * sizeof(T)];
+  /// The calling warp's 32 records.
+  __device__ T* warp_records() { return reinterpret_cast<T*>(storage) + (threadIdx.x & ~31u); }
   __device__ void write(const T& record, std::uint64_t i, std::uint64_t n, T* out) {
     const unsigned lane = threadIdx.x & 31u;
-    T* const warp_stage = reinterpret_cast<T*>(storage) + (threadIdx.x - lane);
+    T* const warp_stage = warp_records();
     const std::uint64_t first = i - lane;
     if (i < n) warp_stage[lane] = record;
     warp_copy_run(warp_stage, first < n ? (n - first < 32 ? n - first : 32) : 0, out + first);

@@ -57,32 +57,16 @@ __global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t
   ids[r] = cell_leaves[r];
 }
 
-/// out[r] = registered_leaf(leaves[ids[r]]), 32 records a warp, word by
-/// word: lane l writes words l, l + 32, ... of the warp's run of records,
-/// which lies in one piece (coalesced), and reads each from its leaf, whose
-/// words the neighbouring lanes read too. (A record a thread wrote 23 words
-/// 92 bytes apart from its neighbours', and read them scattered the same.)
+/// out[r] = registered_leaf(leaves[ids[r]]), a warp's records written in
+/// one piece (92 bytes a thread, stored by itself, lay 92 bytes apart from
+/// its neighbours').
 __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t* ids, std::size_t count,
                                          RegisteredLeaf* out) {
-  constexpr unsigned kWords = sizeof(RegisteredLeaf) / sizeof(std::uint32_t);
-  static_assert(sizeof(RegisteredLeaf) == 3 * sizeof(std::uint32_t) + sizeof(LeafCells) &&
-                    sizeof(LeafCells) % sizeof(std::uint32_t) == 0 && alignof(LeafCells) == sizeof(std::uint32_t),
-                "a record is the root, the time slot, then the cells, in 32-bit words");
-  const std::uint64_t first = thread_item() / 32 * 32;
-  if (first >= count) return;  // the whole warp
-  const unsigned lane = threadIdx.x & 31u;
-  const auto n = static_cast<unsigned>(count - first < 32 ? count - first : 32);
-  const std::uint32_t id = lane < n ? ids[first + lane] : 0;
-  auto* const to = reinterpret_cast<std::uint32_t*>(out + first);
-  for (unsigned base = 0; base < n * kWords; base += 32) {
-    const unsigned w = base + lane, k = w / kWords, f = w % kWords;
-    const Leaf& leaf = leaves[__shfl_sync(0xffffffffu, id, k & 31u)];
-    if (w >= n * kWords) continue;
-    to[w] = f == 0   ? leaf.triangle.root
-            : f == 1 ? leaf.triangle.slot_depth
-            : f == 2 ? leaf.triangle.slot_index
-                     : reinterpret_cast<const std::uint32_t*>(&leaf.cells)[f - 3];
-  }
+  __shared__ detail::WarpRunStage<RegisteredLeaf, detail::kBlockSize> stage;
+  const std::uint64_t r = thread_item();
+  RegisteredLeaf record;
+  if (r < count) record = registered_leaf(leaves[ids[r]]);
+  stage.write(record, r, count, out);
 }
 
 /// The first of a cell's leaves (ordered by root) whose root is at least `root`.
@@ -573,7 +557,7 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
   cub::DoubleBuffer<std::uint64_t> keys(p.order_keys.data(), p.order_keys_spare.data());
   cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
   radix_sort_pairs(keys, ids, registrations, root_bits + radix_bits(cells > 0 ? cells - 1 : 0), p.temp, stream, check);
-  gather_registered_kernel<<<blocks_for((registrations + 31) / 32 * 32), detail::kBlockSize, 0, stream>>>(
+  gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
       leaves, ids.Current(), registrations, p.registered.data());
   SNAG_CUDA_CHECK_LAUNCH();
 }

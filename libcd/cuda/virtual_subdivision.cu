@@ -101,10 +101,9 @@ __global__ void __launch_bounds__(kWriteBlock)
                  const Vec3* x_t0, const Vec3* x_t1, GridSpec grid, double thickness, const std::uint8_t* decision,
                  const CellCoord* home, const SplitTally* offset, Leaf* leaves, std::size_t leaf_room,
                  DeviceLevelItem* next, std::size_t next_room) {
-  // Raw storage: shared variables take no initializers, and Leaf has them.
-  __shared__ alignas(alignof(Leaf)) unsigned char staging[kWriteBlock * sizeof(Leaf)];
+  __shared__ detail::WarpRunStage<Leaf, kWriteBlock> stage;
   const unsigned lane = threadIdx.x & 31u;
-  Leaf* const staged = reinterpret_cast<Leaf*>(staging) + (threadIdx.x - lane);
+  Leaf* const staged = stage.warp_records();
   const std::uint64_t i = thread_item();
   const std::uint64_t n = items_within(*level, room), leaf_base = level->leaf_base;
   if (i == 0) {
