@@ -278,8 +278,12 @@ class CudaBackend final : public Backend {
     BroadPhaseSettings static_settings = broad;
     static_settings.thickness = 0;
     static_broad_->build(scene, static_settings);
-    arena_ = std::make_unique<tbb::task_arena>(settings.threads == 0 ? tbb::task_arena::automatic
-                                                                     : static_cast<int>(settings.threads));
+    // The scan's thread copies and settles a step's events in this arena and
+    // waits for them: at a higher priority than the other arenas (the
+    // report's), it gets the pool's workers first.
+    arena_ = std::make_unique<tbb::task_arena>(
+        settings.threads == 0 ? tbb::task_arena::automatic : static_cast<int>(settings.threads), 1,
+        tbb::task_arena::priority::high);
 
     const std::size_t needed = scene.triangle_count() * sizeof(Triangle) + scene.edge_count() * sizeof(Edge) +
                                kFrameSlots * scene.vertex_count() * sizeof(Vec3);
@@ -372,13 +376,15 @@ class CudaBackend final : public Backend {
       // Detected ahead: the events of the chunks before the last, then the
       // last's. An empty list (the scan's) trades places with them instead
       // of taking a copy; its room goes to a later step's work ahead.
-      if (ahead && events.empty()) {
-        std::swap(events, ccd_found_.events);
-      } else if (ahead) {
-        append_events(events, ccd_found_.events.data(), ccd_found_.events.size());
-      }
-      narrow_.flush_events_to(events);
-      edge_narrow_.flush_events_to(events);
+      arena_->execute([&] {
+        if (ahead && events.empty()) {
+          std::swap(events, ccd_found_.events);
+        } else if (ahead) {
+          append_events(events, ccd_found_.events.data(), ccd_found_.events.size());
+        }
+        narrow_.flush_events_to(events);
+        edge_narrow_.flush_events_to(events);
+      });
       narrow_seconds += seconds_since(flush_start);
     }
     // What the screen left undecided: the whole test and certification, on
@@ -430,8 +436,10 @@ class CudaBackend final : public Backend {
     // from where the device left them.
     const auto events_start = std::chrono::steady_clock::now();
     const std::size_t before = events.size();
-    append_events(events, found.events.data(), found.events.size());
-    static_narrow_.flush_events_to(events);
+    arena_->execute([&] {
+      append_events(events, found.events.data(), found.events.size());
+      static_narrow_.flush_events_to(events);
+    });
     const std::size_t intersecting = events.size() - before;
     stats_.narrow.seconds_static_events = seconds_since(events_start);
     stats_.narrow.triangles_intersecting += intersecting;
