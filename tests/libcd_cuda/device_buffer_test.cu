@@ -1,4 +1,5 @@
-// DeviceBuffer / PinnedBuffer ownership and DeviceMemoryTracker accounting.
+// DeviceBuffer / PinnedBuffer ownership and DeviceMemoryTracker accounting;
+// CudaEvent's pool of the thread's events.
 // The tracker is process-wide: every check works on differences from the
 // bytes held when the test starts.
 #include <gtest/gtest.h>
@@ -6,10 +7,12 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <thread>
 #include <utility>
 #include <vector>
 
 #include "gpu_test.hpp"
+#include "libcd/cuda/cuda_event.cuh"
 #include "libcd/cuda/device_buffer.cuh"
 #include "libcd/cuda/device_memory_tracker.hpp"
 
@@ -182,6 +185,46 @@ TEST_F(DeviceBufferTest, EmptyBufferHoldsNoMemory) {
   EXPECT_EQ(buffer.data(), nullptr);
   EXPECT_TRUE(buffer.download().empty());
   EXPECT_EQ(tracker.current_bytes(), base);
+}
+
+using CudaEventTest = test::GpuTest;
+
+TEST_F(CudaEventTest, TakesBackTheThreadsIdleEventsAndTimesWithThem) {
+  cudaEvent_t first = nullptr, second = nullptr;
+  {
+    CudaEvent a, b;
+    first = a.get();
+    second = b.get();
+    EXPECT_NE(first, second);
+  }
+  // Both went back to this thread's pool: the next two are the same events.
+  CudaEvent c, d;
+  EXPECT_TRUE((c.get() == first && d.get() == second) || (c.get() == second && d.get() == first));
+  // A moved-from event gives nothing back; the moved one times as any.
+  CudaEvent start(std::move(c)), end(std::move(d));
+  DeviceBuffer<std::int32_t> buffer(1 << 20);
+  start.record(nullptr);
+  buffer.fill_zero();
+  end.record(nullptr);
+  SNAG_CUDA_CHECK(cudaEventSynchronize(end.get()));
+  EXPECT_GE(CudaEvent::elapsed_ms(start, end), 0.0f);
+}
+
+TEST_F(CudaEventTest, EventsGivenBackOnAnotherThreadServeThatThread) {
+  std::vector<CudaEvent> made(3);
+  std::vector<cudaEvent_t> handles;
+  for (const CudaEvent& event : made) handles.push_back(event.get());
+  std::vector<cudaEvent_t> taken;
+  std::thread([&] {
+    made.clear();  // given back to this thread's pool
+    for (int k = 0; k < 3; ++k) {
+      CudaEvent event;
+      taken.push_back(event.get());
+    }
+  }).join();
+  // The thread took the events it had been given, not new ones.
+  ASSERT_EQ(taken.size(), 3u);
+  for (cudaEvent_t event : taken) EXPECT_NE(std::find(handles.begin(), handles.end(), event), handles.end());
 }
 
 }  // namespace
