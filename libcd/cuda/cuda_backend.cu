@@ -278,12 +278,12 @@ class CudaBackend final : public Backend {
     BroadPhaseSettings static_settings = broad;
     static_settings.thickness = 0;
     static_broad_->build(scene, static_settings);
-    // The scan's thread copies and settles a step's events in this arena and
-    // waits for them: at a higher priority than the other arenas (the
-    // report's), it gets the pool's workers first.
+    // The scan's thread copies and settles a step's events in this arena. Not
+    // at a higher priority than the others: the report's sink, the slowest
+    // stage of a scan with intersections, would lose its workers to it.
     arena_ = std::make_unique<tbb::task_arena>(
         settings.threads == 0 ? tbb::task_arena::automatic : static_cast<int>(settings.threads), 1,
-        tbb::task_arena::priority::high);
+        tbb::task_arena::priority::normal);
 
     const std::size_t needed = scene.triangle_count() * sizeof(Triangle) + scene.edge_count() * sizeof(Edge) +
                                kFrameSlots * scene.vertex_count() * sizeof(Vec3);
