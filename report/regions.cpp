@@ -53,8 +53,9 @@ RegionBuilder::Lane::Lane(const Scene& scene, std::size_t index)
       vertex_marks(new std::atomic<std::uint64_t>[(scene.vertex_count() + 63) / 64]()),
       edge_marks(new std::atomic<std::uint64_t>[(scene.edges().size() + 63) / 64]()),
       face_sets(scene.triangle_count() + scene.vertex_count()),
-      region_of_root(scene.triangle_count(), kNone),
+      region_of_root(new std::atomic<std::size_t>[scene.triangle_count()]),
       tag(index << kLaneShift) {
+  for (std::size_t f = 0; f < scene.triangle_count(); ++f) region_of_root[f].store(kNone, std::memory_order_relaxed);
   touched.reserve(scene.triangle_count());  // listing the marked faces then allocates nothing
 }
 
@@ -260,64 +261,93 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
                                 std::vector<std::size_t>& region_of) const {
   const EventKind kind = static_cast<EventKind>(std::get<0>(key));
   const std::size_t object_a = std::get<1>(key), object_b = std::get<2>(key);
-  const tbb::blocked_range<std::size_t> all_events(0, group.size(), kEventsPerTask);
+  const std::size_t blocks = (group.size() + kEventsPerTask - 1) / kEventsPerTask;
   const tbb::blocked_range<std::size_t> all_faces(0, lane.touched.size(), kEventsPerTask);
-  // The root of each event's set, once every join is done: the same for any
-  // number of threads.
+  // The root of each event's set, once every join is done (the same for any
+  // number of threads), and each root's first event: the smallest index of
+  // its events, kept at the root, whose block lists the root when it is the
+  // first to find it. A block takes the root of its last event for granted:
+  // the events of a region come in long runs.
   lane.event_root.resize(group.size());
-  tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k)
-      lane.event_root[k] = lane.face_sets.find(lane.event_first_set[k]);
+  lane.block_roots.resize(std::max(lane.block_roots.size(), blocks));
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
+    std::vector<Index>& found = lane.block_roots[block];
+    found.clear();
+    Index last_root = 0;
+    for (std::size_t k = block * kEventsPerTask; k < std::min(group.size(), (block + 1) * kEventsPerTask); ++k) {
+      const Index root = lane.face_sets.find(lane.event_first_set[k]);
+      lane.event_root[k] = root;
+      if (k > block * kEventsPerTask && root == last_root) continue;
+      last_root = root;
+      std::atomic<std::size_t>& first = lane.region_of_root[root];
+      std::size_t seen = first.load(std::memory_order_relaxed);
+      while (k < seen && !first.compare_exchange_weak(seen, k, std::memory_order_relaxed)) {
+      }
+      if (seen == kNone) found.push_back(root);
+    }
   });
-  // One region per set (every set holds an event's faces), made when its
-  // first event comes, and each region's positions added up in event order
-  // (the centroid's sum is rounded as it always was), on this thread: the
-  // sum of a region is one chain of additions, and one region often holds
-  // most of the events. The sum of the region of the last event is kept at
-  // hand: the events of a region come in long runs.
+  // One region per set (every set holds an event's faces), in the order of
+  // their first events; each root then holds its region.
   const std::size_t first_region = lane.regions.size();
-  std::vector<Vec3> position_sums;
   lane.group_roots.clear();
-  std::size_t last_region = kNone;
-  Vec3 sum{0, 0, 0};
-  for (std::size_t k = 0; k < group.size(); ++k) {
-    std::size_t& region = lane.region_of_root[lane.event_root[k]];
-    if (region == kNone) {
-      region = lane.regions.size();
-      RegionRecord record;
-      record.kind = kind;
-      record.object_a = object_a;
-      record.object_b = object_b;
-      record.frame = frame;
-      lane.regions.push_back(std::move(record));
-      lane.first_event.push_back(group[k]);
-      position_sums.push_back({0, 0, 0});
-      lane.group_roots.push_back(lane.event_root[k]);
-    }
-    if (region != last_region) {
-      if (last_region != kNone) position_sums[last_region - first_region] = sum;
-      last_region = region;
-      sum = position_sums[region - first_region];
-    }
-    sum = sum + lane.event_place[k].position;
+  for (std::size_t block = 0; block < blocks; ++block)
+    lane.group_roots.insert(lane.group_roots.end(), lane.block_roots[block].begin(), lane.block_roots[block].end());
+  std::sort(lane.group_roots.begin(), lane.group_roots.end(), [&](Index p, Index q) {
+    return lane.region_of_root[p].load(std::memory_order_relaxed) <
+           lane.region_of_root[q].load(std::memory_order_relaxed);
+  });
+  for (const Index root : lane.group_roots) {
+    RegionRecord record;
+    record.kind = kind;
+    record.object_a = object_a;
+    record.object_b = object_b;
+    record.frame = frame;
+    record.bounds = empty_bounds();
+    record.toi = std::numeric_limits<double>::infinity();
+    lane.regions.push_back(std::move(record));
+    lane.first_event.push_back(group[lane.region_of_root[root].load(std::memory_order_relaxed)]);
+    lane.region_of_root[root].store(lane.regions.size() - 1, std::memory_order_relaxed);
   }
-  if (last_region != kNone) position_sums[last_region - first_region] = sum;
-  // On all threads: each event's region, and each region's count, box and
-  // earliest time over blocks of events (exact in any order); each face's
-  // region (its root's) and, for intersections, the box of its corners.
+  auto region_of_event = [&](std::size_t k) {
+    return lane.region_of_root[lane.event_root[k]].load(std::memory_order_relaxed);
+  };
+  // At once: each region's positions added up in event order on one thread
+  // (the centroid's sum is rounded as it always was: the sum of a region is
+  // one chain of additions, and one region often holds most of the events;
+  // the sum of the region of the last event is kept at hand); each event's
+  // region, and each region's count, box and earliest time over blocks of
+  // events (exact in any order), on all threads; each face's region (its
+  // root's) and, for intersections, the box of its corners, on all threads,
+  // then the faces listed in ascending order on one thread, so that each
+  // region's lists come sorted, and its box grown by theirs (the same box as
+  // corner by corner).
   const bool collisions = kind == EventKind::kCollision;
   const bool face_boxes = kind == EventKind::kIntersection;
-  const std::size_t region_count = position_sums.size();
-  const std::size_t blocks = (group.size() + kEventsPerTask - 1) / kEventsPerTask;
+  const std::size_t region_count = lane.group_roots.size();
+  std::vector<Vec3> position_sums(region_count, Vec3{0, 0, 0});
   lane.block_sums.assign(blocks * region_count, RegionSums{0, empty_bounds(), std::numeric_limits<double>::infinity()});
   lane.touched_region.resize(lane.touched.size());
   lane.touched_box.resize(face_boxes ? lane.touched.size() : 0);
   tbb::parallel_invoke(
       [&] {
+        std::size_t last_region = kNone;
+        Vec3 sum{0, 0, 0};
+        for (std::size_t k = 0; k < group.size(); ++k) {
+          const std::size_t region = region_of_event(k);
+          if (region != last_region) {
+            if (last_region != kNone) position_sums[last_region - first_region] = sum;
+            last_region = region;
+            sum = position_sums[region - first_region];
+          }
+          sum = sum + lane.event_place[k].position;
+        }
+        if (last_region != kNone) position_sums[last_region - first_region] = sum;
+      },
+      [&] {
         tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
           RegionSums* sums = &lane.block_sums[block * region_count];
           for (std::size_t k = block * kEventsPerTask; k < std::min(group.size(), (block + 1) * kEventsPerTask); ++k) {
-            const std::size_t region = lane.region_of_root[lane.event_root[k]];
+            const std::size_t region = region_of_event(k);
             region_of[group[k]] = lane.tag | region;
             RegionSums& sum = sums[region - first_region];
             ++sum.events;
@@ -330,19 +360,30 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
       [&] {
         tbb::parallel_for(all_faces, [&](const tbb::blocked_range<std::size_t>& range) {
           for (std::size_t k = range.begin(); k < range.end(); ++k) {
-            lane.touched_region[k] = lane.region_of_root[lane.face_sets.find(lane.touched[k])];
+            lane.touched_region[k] =
+                lane.region_of_root[lane.face_sets.find(lane.touched[k])].load(std::memory_order_relaxed);
             if (!face_boxes) continue;
             Bounds box = empty_bounds();
             for (Index v : scene_.triangles()[lane.touched[k]]) grow(box, x[v]);
             lane.touched_box[k] = box;
           }
         });
+        const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
+        const Index end_a = scene_.triangle_offset(object_a + 1);
+        for (std::size_t k = 0; k < lane.touched.size(); ++k) {
+          RegionRecord& region = lane.regions[lane.touched_region[k]];
+          const Index f = lane.touched[k];
+          if (f >= base_a && f < end_a) {
+            region.faces_a.push_back(f - base_a);
+          } else {
+            region.faces_b.push_back(f - base_b);
+          }
+          if (face_boxes) grow(region.bounds, lane.touched_box[k]);
+        }
       });
   for (std::size_t r = 0; r < region_count; ++r) {
     RegionRecord& region = lane.regions[first_region + r];
     region.centroid = position_sums[r];
-    region.bounds = empty_bounds();
-    region.toi = std::numeric_limits<double>::infinity();
     for (std::size_t block = 0; block < blocks; ++block) {
       const RegionSums& sums = lane.block_sums[block * region_count + r];
       region.events += sums.events;
@@ -350,22 +391,7 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
       region.toi = std::min(region.toi, sums.toi);
     }
   }
-  for (const Index root : lane.group_roots) lane.region_of_root[root] = kNone;
-  // The faces listed in ascending order on this thread, so that each
-  // region's lists come sorted, and its box grown by theirs (the same box
-  // as corner by corner).
-  const Index base_a = scene_.triangle_offset(object_a), base_b = scene_.triangle_offset(object_b);
-  const Index end_a = scene_.triangle_offset(object_a + 1);
-  for (std::size_t k = 0; k < lane.touched.size(); ++k) {
-    RegionRecord& region = lane.regions[lane.touched_region[k]];
-    const Index f = lane.touched[k];
-    if (f >= base_a && f < end_a) {
-      region.faces_a.push_back(f - base_a);
-    } else {
-      region.faces_b.push_back(f - base_b);
-    }
-    if (face_boxes) grow(region.bounds, lane.touched_box[k]);
-  }
+  for (const Index root : lane.group_roots) lane.region_of_root[root].store(kNone, std::memory_order_relaxed);
 }
 
 void RegionBuilder::build(const std::vector<Event>& events, const std::vector<char>& in_region,

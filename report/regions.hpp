@@ -43,11 +43,13 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
 /// in a union-find over faces and vertices (whose roots are the smallest face
 /// of each region, so that the regions do not depend on the threads). The
 /// faces around the marked vertices and on the marked edges are marked in
-/// turn, and the marked faces listed and joined with their vertices. Each
-/// region is made when its first event comes and its events' positions
-/// added up in event order, on one thread; counts, boxes and times, exact in
-/// any order, on all threads; each region's faces are listed in face order
-/// on one thread. The result is the same for any number of threads.
+/// turn, and the marked faces listed and joined with their vertices. The
+/// regions are numbered in the order of their first events, found on all
+/// threads. Then, at once: each region's positions added up in event order,
+/// on one thread; counts, boxes and times, exact in any order, on all
+/// threads; each face's region found on all threads and each region's faces
+/// listed in face order on one thread. The result is the same for any number
+/// of threads.
 class RegionBuilder {
  public:
   explicit RegionBuilder(const Scene& scene);
@@ -105,7 +107,10 @@ class RegionBuilder {
     std::unique_ptr<std::atomic<std::uint64_t>[]> vertex_marks;  // a bit per vertex: the events' vertices
     std::unique_ptr<std::atomic<std::uint64_t>[]> edge_marks;    // a bit per edge: the events' edges
     ConcurrentUnionFind<Index> face_sets;                        // faces, then vertices
-    std::vector<std::size_t> region_of_root;                     // by face: set at the group's roots
+    // By face, kNone but at the group's roots: the first event of the root's
+    // set while the roots are found, then its region.
+    std::unique_ptr<std::atomic<std::size_t>[]> region_of_root;
+    std::vector<std::vector<Index>> block_roots;  // by block of the group's events: the roots it found first
     std::vector<std::size_t> marked_before;                      // faces marked in the words before each block
     std::vector<Index> touched;                                  // the group's faces, ascending
     std::vector<std::size_t> touched_region;                     // the region of each of the group's faces
