@@ -134,12 +134,13 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
   lane.face_sets.clear();
   // One pass over the group's events, the only one that reads them: the
   // elements of each event marked (a face, a vertex for the faces around
-  // it, an edge for the faces on it), the event's elements joined through
-  // their sets (a vertex's set, once its faces are joined with it below,
-  // holds them; an edge's faces hold its first end), and what the regions
-  // need of the event kept, 40 bytes instead of the event. A vertex on no
-  // face (a loose one) joins nothing.
+  // it, an edge for the faces on it), the two sets the event joins kept (a
+  // vertex's set, once its faces are joined with it below, holds them; an
+  // edge's faces hold its first end), and what the regions need of the
+  // event, 48 bytes instead of the event. A vertex on no face (a loose one)
+  // joins nothing.
   lane.event_first_set.resize(group.size());
+  lane.event_second_set.resize(group.size());
   lane.event_place.resize(group.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group.size(), kEventsPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
@@ -163,7 +164,7 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
                           second = vertex_set(edges[e.b][0]);
                         }
                         lane.event_first_set[k] = first;
-                        lane.face_sets.unite(first, second);
+                        lane.event_second_set[k] = second;
                       }
                     });
   // The faces around each marked vertex and on each marked edge marked. An
@@ -216,6 +217,20 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
                  for (Index v : triangles[f]) lane.face_sets.unite(f, vertex_set(v));
                });
   });
+  // Each event's two sets joined, now that the faces of each region's
+  // stretches of mesh are: most events find both in one set already and
+  // write nothing (an event with the sets of the event before it is not
+  // looked at again).
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, group.size(), kEventsPerTask),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t k = range.begin(); k < range.end(); ++k) {
+          const Index first = lane.event_first_set[k], second = lane.event_second_set[k];
+          if (k > range.begin() && first == lane.event_first_set[k - 1] && second == lane.event_second_set[k - 1])
+            continue;
+          lane.face_sets.unite(first, second);
+        }
+      });
 }
 
 void RegionBuilder::group_events(const std::vector<Event>& events, const std::vector<char>& in_region) {

@@ -39,11 +39,13 @@ std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Even
 /// The events are grouped by pair and kind on all threads (in blocks, whose
 /// runs of one group then take their places in event order). Two groups are
 /// built at once, each on a lane with scratch of its own. Each group's
-/// events are read once, on all threads: their elements marked and joined
-/// in a union-find over faces and vertices (whose roots are the smallest face
-/// of each region, so that the regions do not depend on the threads). The
-/// faces around the marked vertices and on the marked edges are marked in
-/// turn, and the marked faces listed and joined with their vertices. The
+/// events are read once, on all threads: their elements marked and the two
+/// sets each joins kept, in a union-find over faces and vertices (whose roots
+/// are the smallest face of each region, so that the regions do not depend
+/// on the threads). The faces around the marked vertices and on the marked
+/// edges are marked in turn, the marked faces listed and joined with their
+/// vertices, and then each event's sets joined (by then, most events find
+/// both in one set and write nothing). The
 /// regions are numbered in the order of their first events, found on all
 /// threads. Then, at once: each region's positions added up in event order,
 /// on one thread; counts, boxes and times, exact in any order, on all
@@ -115,7 +117,7 @@ class RegionBuilder {
     std::vector<Index> touched;                                  // the group's faces, ascending
     std::vector<std::size_t> touched_region;                     // the region of each of the group's faces
     std::vector<Bounds> touched_box;                             // intersections: the box of each of the group's faces
-    std::vector<Index> event_first_set;                          // a set of an element of each of the group's events
+    std::vector<Index> event_first_set, event_second_set;        // the sets each of the group's events joins
     std::vector<EventPlace> event_place;                         // of each of the group's events
     std::vector<Index> event_root;                               // the root of each of the group's events
     std::vector<Index> group_roots;                              // the roots of the group's regions
