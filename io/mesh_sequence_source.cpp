@@ -1,5 +1,6 @@
 #include "io/mesh_sequence_source.hpp"
 
+#include "io/mapped_file.hpp"
 #include "io/mesh_file.hpp"
 #include "io/mesh_scene.hpp"
 #include "io/reader_support.hpp"
@@ -23,6 +24,9 @@ MeshSequenceSource::MeshSequenceSource(std::vector<FrameFile> files, const std::
     : files_(std::move(files)), description_(std::move(description)) {
   if (files_.empty()) throw InputError({description_}, "no frames");
   reference_ = read_mesh_file(files_[0].path);
+  if (files_.size() > 1 && lower_extension(files_[0].path) == "ply" &&
+      objects_cover_file_in_order(reference_.objects, reference_.positions.size()))
+    ply_layout_ = PlyFrameLayout::of(MappedFile(files_[0].path).bytes(), files_[0].path);
   const std::string default_name = files_.size() == 1 ? file_stem(files_[0].path) : sequence_name(files_[0].path);
   scene_ = Scene(make_scene_objects(reference_, files_[0].path, default_name, name_override));
 }
@@ -33,6 +37,7 @@ void MeshSequenceSource::read_frame(std::size_t i, std::vector<Vec3>& positions)
     gather_object_positions(reference_.objects, reference_.positions.data(), positions.data());
     return;
   }
+  if (ply_layout_ && ply_layout_->read_positions(MappedFile(files_[i].path).bytes(), positions)) return;
   const MeshData frame = read_mesh_file(files_[i].path);
   check_same_topology(reference_, files_[0].path, frame, files_[i].path, i);
   gather_object_positions(frame.objects, frame.positions.data(), positions.data());

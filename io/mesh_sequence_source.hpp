@@ -2,11 +2,13 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "io/frame_files.hpp"
 #include "io/mesh_data.hpp"
+#include "io/ply_reader.hpp"
 #include "libcd/scene/frame_source.hpp"
 
 namespace snag::io {
@@ -24,13 +26,18 @@ class MeshSequenceSource : public FrameSource {
   double frame_time(std::size_t i) const override { return files_[i].number; }
   /// Parses file i only, checks its topology against frame 0 and gathers its
   /// objects' positions; frame 0's come from the read that gave the topology.
-  /// Throws InputError.
+  /// A binary PLY file whose bytes but the coordinates are frame 0's (see
+  /// PlyFrameLayout) has only its coordinates read. Throws InputError.
   void read_frame(std::size_t i, std::vector<Vec3>& positions) const override;
   std::string description() const override { return description_; }
 
  private:
   std::vector<FrameFile> files_;
   MeshData reference_;  ///< frame 0: the topology, and the positions read_frame(0) gives
+  /// Frame 0's bytes but its coordinates, for binary PLY files whose objects
+  /// hold every vertex in file order (so that the scene's positions are the
+  /// file's).
+  std::optional<PlyFrameLayout> ply_layout_;
   Scene scene_;
   std::string description_;
 };

@@ -152,6 +152,19 @@ bool is_index_list(const Property& p) {
 
 // ---- binary -----------------------------------------------------------------
 
+// The value of type T stored at `at` in the file's byte order.
+template <typename T>
+T load_binary(const unsigned char* at, bool big_endian) {
+  unsigned char raw[sizeof(T)];
+  std::memcpy(raw, at, sizeof(T));
+  if (big_endian) {
+    for (std::size_t k = 0; k < sizeof(T) / 2; ++k) std::swap(raw[k], raw[sizeof(T) - 1 - k]);
+  }
+  T value;
+  std::memcpy(&value, raw, sizeof(T));
+  return value;
+}
+
 struct BinaryReader {
   const unsigned char* base;
   std::size_t size;
@@ -169,14 +182,7 @@ struct BinaryReader {
   }
   template <typename T>
   T load(std::size_t offset) const {
-    unsigned char raw[sizeof(T)];
-    std::memcpy(raw, base + offset, sizeof(T));
-    if (big_endian) {
-      for (std::size_t k = 0; k < sizeof(T) / 2; ++k) std::swap(raw[k], raw[sizeof(T) - 1 - k]);
-    }
-    T value;
-    std::memcpy(&value, raw, sizeof(T));
-    return value;
+    return load_binary<T>(base + offset, big_endian);
   }
   double real(Type type, std::size_t offset) const {
     switch (type) {
@@ -478,6 +484,56 @@ MeshData parse_ply(std::string_view bytes, const std::string& file) {
 MeshData read_ply(const std::string& path) {
   MappedFile map(path);
   return parse_ply(map.bytes(), path);
+}
+
+std::optional<PlyFrameLayout> PlyFrameLayout::of(std::string_view bytes, const std::string& file) {
+  const Header header = parse_header(bytes, file);
+  if (header.format == Format::ascii || header.elements.empty() || header.elements[0].name != "vertex") return {};
+  const Element& vertices = header.elements[0];
+  PlyFrameLayout layout;
+  bool found[3] = {false, false, false};
+  std::size_t at = 0;
+  for (const Property& property : vertices.properties) {
+    if (property.is_list) return {};
+    const int axis = coordinate_of(property.name);
+    if (axis >= 0) {  // parse_ply reads the last property of each name
+      if (property.type != Type::float32 && property.type != Type::float64) return {};
+      found[axis] = true;
+      layout.offset_[axis] = at;
+      layout.doubles_[axis] = property.type == Type::float64;
+    }
+    at += size_of(property.type);
+  }
+  if (!found[0] || !found[1] || !found[2]) return {};
+  layout.count_ = static_cast<std::size_t>(vertices.count);
+  layout.stride_ = at;
+  const std::size_t block_end = header.body_offset + layout.count_ * layout.stride_;  // parse_ply checked the size
+  if (block_end > bytes.size()) return {};
+  layout.head_ = std::string(bytes.substr(0, header.body_offset));
+  layout.tail_ = std::string(bytes.substr(block_end));
+  layout.big_endian_ = header.format == Format::binary_big_endian;
+  return layout;
+}
+
+bool PlyFrameLayout::read_positions(std::string_view bytes, std::vector<Vec3>& positions) const {
+  if (bytes.size() != head_.size() + count_ * stride_ + tail_.size()) return false;
+  if (std::memcmp(bytes.data(), head_.data(), head_.size()) != 0) return false;
+  const char* tail = bytes.data() + head_.size() + count_ * stride_;
+  if (std::memcmp(tail, tail_.data(), tail_.size()) != 0) return false;
+  const auto* block = reinterpret_cast<const unsigned char*>(bytes.data()) + head_.size();
+  positions.resize(count_);
+  bool finite = true;
+  for (std::size_t i = 0; i < count_; ++i) {
+    const unsigned char* vertex = block + i * stride_;
+    double p[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      p[axis] = doubles_[axis] ? load_binary<double>(vertex + offset_[axis], big_endian_)
+                               : load_binary<float>(vertex + offset_[axis], big_endian_);
+    }
+    positions[i] = {p[0], p[1], p[2]};
+    finite = finite && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+  }
+  return finite;
 }
 
 }  // namespace snag::io

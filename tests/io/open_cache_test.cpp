@@ -1,9 +1,13 @@
+#include "io/open_cache.hpp"
+
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 
-#include "io/open_cache.hpp"
 #include "test_files.hpp"
 
 namespace snag::io {
@@ -101,6 +105,45 @@ TEST(OpenCache, RejectsTopologyChangeNamingFrameAndDifference) {
   expect_input_error([&] { source->read_frame(1, positions); }, "m1.obj: frame 1: 3 triangles, expected 2");
   expect_input_error([&] { source->read_frame(2, positions); }, "m2.obj: frame 2: triangle 1 is (1,3,0), expected (1,3,2)");
   expect_input_error([&] { source->read_frame(3, positions); }, "m3.obj: frame 3: 3 vertices, expected 4");
+}
+
+/// A binary big-endian PLY square (two triangles) whose first x is `x` and
+/// whose second face is (`a`, `b`, `c`).
+std::string square_ply(float x, std::int32_t a = 1, std::int32_t b = 3, std::int32_t c = 2) {
+  std::string bytes =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+  for (float value : {x, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f, 1.f, 1.f, 0.25f})
+    testing::put<float>(bytes, value, true);
+  for (const auto& face : {std::array<std::int32_t, 3>{0, 1, 2}, std::array<std::int32_t, 3>{a, b, c}}) {
+    testing::put<std::uint8_t>(bytes, 3);
+    for (std::int32_t id : face) testing::put<std::int32_t>(bytes, id, true);
+  }
+  return bytes;
+}
+
+// Frames of a binary PLY sequence like the first but for their coordinates
+// are read from their coordinates alone; the others still have their
+// topology checked and their coordinates' faults named.
+TEST(OpenCache, ReadsBinaryPlySequencesLikeTheirFullParse) {
+  testing::TempDir dir;
+  for (int frame : {0, 1, 2}) dir.write("p" + std::to_string(frame) + ".ply", square_ply(0.5f + frame));
+  dir.write("p3.ply", square_ply(7, 1, 3, 0));
+  dir.write("p4.ply", square_ply(std::numeric_limits<float>::quiet_NaN()));
+  std::string longer = square_ply(8);
+  longer.replace(longer.find("end_header"), 0, "comment another tool\n");
+  dir.write("p5.ply", longer);
+  const auto source = open_cache(one_input(dir.path("p%d.ply")));
+  std::vector<Vec3> positions;
+  for (int frame : {1, 2}) {
+    source->read_frame(frame, positions);
+    EXPECT_EQ(positions, (std::vector<Vec3>{{0.5 + frame, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.25}}));
+  }
+  expect_input_error([&] { source->read_frame(3, positions); },
+                     "p3.ply: frame 3: triangle 1 is (1,3,0), expected (1,3,2)");
+  expect_input_error([&] { source->read_frame(4, positions); }, "vertex 0: coordinate is not finite");
+  source->read_frame(5, positions);  // another header: parsed in full, the same topology
+  EXPECT_EQ(positions[0].x, 8.0);
 }
 
 TEST(OpenCache, CombinesInputsAsNamedObjects) {

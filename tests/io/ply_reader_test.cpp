@@ -27,7 +27,7 @@ struct PlyLayout {
 
 /// A binary PLY of kValues with an extra property before x, z before y, and a
 /// face element holding an extra list and a flag around the index list.
-std::string binary_ply(const PlyLayout& layout) {
+std::string binary_ply(const PlyLayout& layout, double scale = 1) {
   const char* real = layout.doubles ? "double" : "float";
   std::ostringstream header;
   header << "ply\nformat " << (layout.big_endian ? "binary_big_endian" : "binary_little_endian") << " 1.0\n"
@@ -39,8 +39,10 @@ std::string binary_ply(const PlyLayout& layout) {
   for (const auto& v : kValues) {
     put<std::uint8_t>(bytes, 200);
     for (int axis : {0, 2, 1}) {
-      if (layout.doubles) put<double>(bytes, v[axis], layout.big_endian);
-      else put<float>(bytes, static_cast<float>(v[axis]), layout.big_endian);
+      if (layout.doubles)
+        put<double>(bytes, scale * v[axis], layout.big_endian);
+      else
+        put<float>(bytes, static_cast<float>(scale * v[axis]), layout.big_endian);
     }
     put<std::int16_t>(bytes, -5, layout.big_endian);
   }
@@ -176,6 +178,61 @@ TEST(PlyReader, RejectsEmptyMeshAndBadHeaders) {
                      "lacks an x, y or z");
   expect_input_error([] { parse_ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n", "h.ply"); },
                      "h.ply:4: unknown property type");
+}
+
+// A later frame whose bytes but the coordinates are the first frame's has
+// its coordinates read alone, as parse_ply reads them, in every byte order
+// and coordinate type.
+TEST(PlyReader, FrameLayoutReadsTheCoordinatesOfFramesLikeTheFirst) {
+  for (const PlyLayout& layout : {PlyLayout{}, PlyLayout{true, true, false, false}, PlyLayout{true, false, true, true},
+                                  PlyLayout{false, true, false, false}}) {
+    const auto first = PlyFrameLayout::of(binary_ply(layout), "square_0.ply");
+    ASSERT_TRUE(first.has_value());
+    const std::string later = binary_ply(layout, -2.75);
+    std::vector<Vec3> positions;
+    ASSERT_TRUE(first->read_positions(later, positions));
+    EXPECT_EQ(positions, parse_ply(later, "square_1.ply").positions);
+  }
+}
+
+// Any other byte outside the coordinates (a face's index, the header, the
+// size), a coordinate that is not finite, a text file or vertices that are
+// not first or hold other types: the layout declines, and the full parse
+// reads the frame (and says what is wrong with it).
+TEST(PlyReader, FrameLayoutDeclinesFramesNotLikeTheFirst) {
+  const std::string bytes = binary_ply({});
+  const auto first = PlyFrameLayout::of(bytes, "square_0.ply");
+  ASSERT_TRUE(first.has_value());
+  std::vector<Vec3> positions;
+  std::string other = bytes;
+  other[other.size() - 8] = 1;  // the last index
+  EXPECT_FALSE(first->read_positions(other, positions));
+  other = bytes;
+  other.replace(other.find("by hand"), 7, "by HAND");
+  EXPECT_FALSE(first->read_positions(other, positions));
+  EXPECT_FALSE(first->read_positions(bytes + "x", positions));
+  other = bytes;
+  const float infinity = std::numeric_limits<float>::infinity();
+  std::memcpy(&other[bytes.find("end_header\n") + 11 + 15 + 1], &infinity, 4);  // vertex 1's x
+  EXPECT_FALSE(first->read_positions(other, positions));
+  EXPECT_TRUE(first->read_positions(bytes, positions));
+
+  const std::string ascii =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  EXPECT_FALSE(PlyFrameLayout::of(ascii, "a.ply").has_value());
+  std::string faces_first =
+      "ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  put<std::uint8_t>(faces_first, 3);
+  for (std::int32_t id : {0, 1, 2}) put<std::int32_t>(faces_first, id);
+  for (float value : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put<float>(faces_first, value);
+  EXPECT_EQ(parse_ply(faces_first, "f.ply").positions.size(), 3u);
+  EXPECT_FALSE(PlyFrameLayout::of(faces_first, "f.ply").has_value());
+  std::string short_x =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty short x\nproperty float y\nproperty float z\n"
+      "element face 0\nproperty list uchar int vertex_indices\nend_header\n";
+  EXPECT_FALSE(PlyFrameLayout::of(short_x, "s.ply").has_value());
 }
 
 /// Reads vertex 0's x from a PLY file's body with an independent decoder.
