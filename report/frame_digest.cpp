@@ -56,7 +56,7 @@ void FrameDigester::tally(const std::vector<Event>& events, std::size_t begin, s
     const Event& e = events[i];
     const Disposition d = rules_.classify(e);
     dispositions_[i] = d.kind;
-    in_region_[i] = 0;
+    group_of_[i] = kNoGroup;
     allowed_by[i] = kNone;
     if (d.kind == Disposition::kNotChecked) {
       ++sum.not_checked;
@@ -81,7 +81,7 @@ void FrameDigester::tally(const std::vector<Event>& events, std::size_t begin, s
       ++sum.allow_counts[d.rule];
       continue;
     }
-    in_region_[i] = 1;
+    group_of_[i] = group_word(e.kind, a, b);
     ++last_pair->checked;
     if (e.kind == EventKind::kCollision) {
       ++sum.collisions;
@@ -106,7 +106,7 @@ void FrameDigester::digest(ScannedFrame& frame, FrameDigest& digest) {
   // event's results at its own index; counts summed over the blocks.
   const std::size_t count = events.size();
   dispositions_.resize(count);
-  in_region_.resize(count);
+  group_of_.resize(count);
   digest.allowed_by.resize(count);
   Tally none;
   none.allow_counts.assign(rules_.rules().allow.size(), 0);
@@ -141,18 +141,18 @@ void FrameDigester::digest(ScannedFrame& frame, FrameDigest& digest) {
       if (dispositions_[i] == Disposition::kNotChecked || dispositions_[i] == Disposition::kNeighbourhood) continue;
       if (kept != i) {
         events[kept] = events[i];
-        in_region_[kept] = in_region_[i];
+        group_of_[kept] = group_of_[i];
         digest.allowed_by[kept] = digest.allowed_by[i];
       }
       ++kept;
     }
     events.resize(kept);
-    in_region_.resize(kept);
+    group_of_.resize(kept);
     digest.allowed_by.resize(kept);
   }
 
   digest.regions.clear();
-  regions_.build(events, in_region_, *frame.x, record.index, digest.regions, digest.region_of);
+  regions_.build(events, group_of_, *frame.x, record.index, digest.regions, digest.region_of);
   record.regions = digest.regions.size();
   digest.kept = kept;
   digest.listable = kept;

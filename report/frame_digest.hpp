@@ -82,7 +82,7 @@ class FrameDigester {
   RegionBuilder regions_;
   // Per event of the frame, scratch.
   std::vector<Disposition::Kind> dispositions_;
-  std::vector<char> in_region_;
+  std::vector<GroupWord> group_of_;  ///< the checked events' groups (kNoGroup: allowed, dropped)
 };
 
 }  // namespace snag::report

@@ -62,6 +62,8 @@ RegionBuilder::Lane::Lane(const Scene& scene, std::size_t index)
 RegionBuilder::RegionBuilder(const Scene& scene) : scene_(scene) {
   if (scene.triangle_count() + scene.vertex_count() > std::numeric_limits<Index>::max())
     throw std::length_error("a scene's faces and vertices together outnumber the region builder's ids");
+  if (scene.objects().size() > std::size_t{0x7fffffff})
+    throw std::length_error("a scene's objects outnumber the region builder's group words");
   const auto& triangles = scene.triangles();
   vertex_face_start_.assign(scene.vertex_count() + 1, 0);
   for (const Triangle& t : triangles)
@@ -233,33 +235,34 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
       });
 }
 
-void RegionBuilder::group_events(const std::vector<Event>& events, const std::vector<char>& in_region) {
+void RegionBuilder::group_events(const std::vector<GroupWord>& group_of) {
   // Each block lists its runs of events of one group (the events of a group
   // come in long runs); the runs then take their places in their groups'
   // lists in event order, and are written there on all threads.
   struct Run {
-    GroupKey key;
+    GroupWord word;
     std::size_t begin, end;
     std::vector<std::size_t>* list;
     std::size_t at;
   };
   for (auto& [key, list] : groups_) list.clear();  // the lists keep their room from frame to frame
-  const std::size_t blocks = (events.size() + kEventsPerBlock - 1) / kEventsPerBlock;
+  const std::size_t blocks = (group_of.size() + kEventsPerBlock - 1) / kEventsPerBlock;
   std::vector<std::vector<Run>> block_runs(blocks);
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
     std::vector<Run>& runs = block_runs[block];
-    const std::size_t end = std::min(events.size(), (block + 1) * kEventsPerBlock);
+    const std::size_t end = std::min(group_of.size(), (block + 1) * kEventsPerBlock);
     for (std::size_t i = block * kEventsPerBlock; i < end; ++i) {
-      if (!in_region[i]) continue;
-      const auto [a, b] = event_objects(scene_, events[i]);
-      const GroupKey key{static_cast<int>(events[i].kind), a, b};
-      if (runs.empty() || runs.back().end != i || runs.back().key != key) runs.push_back({key, i, i, nullptr, 0});
+      const GroupWord word = group_of[i];
+      if (word == kNoGroup) continue;
+      if (runs.empty() || runs.back().end != i || runs.back().word != word) runs.push_back({word, i, i, nullptr, 0});
       runs.back().end = i + 1;
     }
   });
   for (std::vector<Run>& runs : block_runs) {
     for (Run& run : runs) {
-      run.list = &groups_[run.key];
+      const GroupKey key{static_cast<int>(run.word >> 63 ? EventKind::kIntersection : EventKind::kCollision),
+                         (run.word >> 32) & 0x7fffffffu, run.word & 0xffffffffu};
+      run.list = &groups_[key];
       run.at = run.list->size();
       run.list->resize(run.at + (run.end - run.begin));
     }
@@ -412,13 +415,27 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
 void RegionBuilder::build(const std::vector<Event>& events, const std::vector<char>& in_region,
                           const std::vector<Vec3>& x, std::size_t frame, std::vector<RegionRecord>& regions,
                           std::vector<std::size_t>& region_of) {
+  group_of_.resize(events.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, events.size(), kEventsPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        const auto [a, b] = event_objects(scene_, events[i]);
+                        group_of_[i] = in_region[i] ? group_word(events[i].kind, a, b) : kNoGroup;
+                      }
+                    });
+  build(events, group_of_, x, frame, regions, region_of);
+}
+
+void RegionBuilder::build(const std::vector<Event>& events, const std::vector<GroupWord>& group_of,
+                          const std::vector<Vec3>& x, std::size_t frame, std::vector<RegionRecord>& regions,
+                          std::vector<std::size_t>& region_of) {
   const tbb::blocked_range<std::size_t> all_events(0, events.size(), kEventsPerTask);
   region_of.resize(events.size());
   tbb::parallel_for(all_events, [&](const tbb::blocked_range<std::size_t>& range) {
     std::fill(region_of.begin() + static_cast<std::ptrdiff_t>(range.begin()),
               region_of.begin() + static_cast<std::ptrdiff_t>(range.end()), kNone);
   });
-  group_events(events, in_region);
+  group_events(group_of);
   // The groups are built at once, on lanes of their own (the passes over one
   // group keep few threads busy): largest first, each to the lane with the
   // fewest events so far.

@@ -31,6 +31,15 @@ namespace snag::report {
 /// The objects of an event's two elements, smaller index first.
 std::pair<std::size_t, std::size_t> event_objects(const Scene& scene, const Event& event);
 
+/// An event's group, its kind and pair of objects, in one word that orders
+/// groups as (kind, object a, object b) do: the kind in the top bit, object
+/// a <= b in the next 31 and b in the low 32. kNoGroup: an event in no region.
+using GroupWord = std::uint64_t;
+constexpr GroupWord kNoGroup = ~GroupWord{0};
+inline GroupWord group_word(EventKind kind, std::size_t a, std::size_t b) {
+  return (GroupWord{kind == EventKind::kIntersection} << 63) | (GroupWord{a} << 32) | GroupWord{b};
+}
+
 /// Builds the regions of one frame. Holds scene-sized scratch arrays so that
 /// each frame costs time in the number of its events, not of the scene,
 /// but for reading the marks (a bit per face, vertex and edge) of the two
@@ -62,6 +71,10 @@ class RegionBuilder {
   /// in `regions` of event i's region, or kNone. x: the frame's positions.
   void build(const std::vector<Event>& events, const std::vector<char>& in_region, const std::vector<Vec3>& x,
              std::size_t frame, std::vector<RegionRecord>& regions, std::vector<std::size_t>& region_of);
+  /// As above, with each event's group word given (kNoGroup: in no region),
+  /// so that the events are not read again to group them.
+  void build(const std::vector<Event>& events, const std::vector<GroupWord>& group_of, const std::vector<Vec3>& x,
+             std::size_t frame, std::vector<RegionRecord>& regions, std::vector<std::size_t>& region_of);
 
  private:
   using GroupKey = std::tuple<int, std::size_t, std::size_t>;  // kind, object a <= object b
@@ -72,9 +85,8 @@ class RegionBuilder {
   /// the set and the place of each event.
   void join_faces(Lane& lane, const std::vector<Event>& events, const std::vector<std::size_t>& group,
                   std::size_t object_a, std::size_t object_b) const;
-  /// Lists in groups_ the events of each group (pair and kind) with in_region
-  /// set, in event order.
-  void group_events(const std::vector<Event>& events, const std::vector<char>& in_region);
+  /// Lists in groups_ the events of each group (pair and kind), in event order.
+  void group_events(const std::vector<GroupWord>& group_of);
   /// Adds the group's regions to lane.regions in the order of their first
   /// event and sets region_of for its events (the lane's index of their
   /// region, tagged with the lane), after join_faces on the group.
@@ -128,6 +140,7 @@ class RegionBuilder {
     std::size_t tag;  // the lane in region_of
   };
   std::map<GroupKey, std::vector<std::size_t>> groups_;  // the frame's events of each group
+  std::vector<GroupWord> group_of_;                      // build() from in_region: each event's group
   std::vector<std::unique_ptr<Lane>> lanes_;             // made when a frame first needs them
 };
 

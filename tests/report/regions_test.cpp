@@ -118,7 +118,7 @@ TEST(Regions, EventsLeftOutOfRegionsGetNone) {
   RegionBuilder builder(scene);
   std::vector<RegionRecord> regions;
   std::vector<std::size_t> region_of;
-  builder.build({intersection(0, kBody), intersection(14, kBody + 14)}, {0, 1}, positions(), 0, regions, region_of);
+  builder.build({intersection(0, kBody), intersection(14, kBody + 14)}, std::vector<char>{0, 1}, positions(), 0, regions, region_of);
   ASSERT_EQ(regions.size(), 1u);
   EXPECT_EQ(region_of, (std::vector<std::size_t>{kNone, 0}));
 }
