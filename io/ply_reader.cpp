@@ -505,10 +505,10 @@ std::optional<PlyFrameLayout> PlyFrameLayout::of(std::string_view bytes, const s
     at += size_of(property.type);
   }
   if (!found[0] || !found[1] || !found[2]) return {};
+  if (vertices.count > (bytes.size() - header.body_offset) / at) return {};  // more than the file holds
   layout.count_ = static_cast<std::size_t>(vertices.count);
   layout.stride_ = at;
-  const std::size_t block_end = header.body_offset + layout.count_ * layout.stride_;  // parse_ply checked the size
-  if (block_end > bytes.size()) return {};
+  const std::size_t block_end = header.body_offset + layout.count_ * layout.stride_;
   layout.head_ = std::string(bytes.substr(0, header.body_offset));
   layout.tail_ = std::string(bytes.substr(block_end));
   layout.big_endian_ = header.format == Format::binary_big_endian;

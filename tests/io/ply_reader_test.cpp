@@ -233,6 +233,9 @@ TEST(PlyReader, FrameLayoutDeclinesFramesNotLikeTheFirst) {
       "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty short x\nproperty float y\nproperty float z\n"
       "element face 0\nproperty list uchar int vertex_indices\nend_header\n";
   EXPECT_FALSE(PlyFrameLayout::of(short_x, "s.ply").has_value());
+  std::string huge = bytes;
+  huge.replace(huge.find("element vertex 4"), 16, "element vertex 400000000000000000");
+  EXPECT_FALSE(PlyFrameLayout::of(huge, "h.ply").has_value());
 }
 
 /// Reads vertex 0's x from a PLY file's body with an independent decoder.
