@@ -57,6 +57,18 @@ class ConcurrentUnionFind {
     }
   }
 
+  /// The root of id's set, as find() gives it, but without shortening the
+  /// path: it writes nothing, so that threads that read the same sets do not
+  /// contend for them. Beside unite() calls, a root that has since been
+  /// linked under another; two ids it gives one root are in one set.
+  Id root_of(Id id) const {
+    for (;;) {
+      const Id parent = parent_of(id);
+      if (parent == id) return id;
+      id = parent;
+    }
+  }
+
   /// Joins the sets of a and b. Safe beside other unite() and find() calls.
   void unite(Id a, Id b) {
     for (;;) {

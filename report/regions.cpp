@@ -220,9 +220,9 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
                });
   });
   // Each event's two sets joined, now that the faces of each region's
-  // stretches of mesh are: most events find both in one set already and
-  // write nothing (an event with the sets of the event before it is not
-  // looked at again).
+  // stretches of mesh are: most events find both in one set already, by
+  // reading alone (root_of), and write nothing (an event with the sets of
+  // the event before it is not looked at again).
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, group.size(), kEventsPerTask),
       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -230,7 +230,7 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
           const Index first = lane.event_first_set[k], second = lane.event_second_set[k];
           if (k > range.begin() && first == lane.event_first_set[k - 1] && second == lane.event_second_set[k - 1])
             continue;
-          lane.face_sets.unite(first, second);
+          if (lane.face_sets.root_of(first) != lane.face_sets.root_of(second)) lane.face_sets.unite(first, second);
         }
       });
 }
@@ -293,7 +293,7 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
     found.clear();
     Index last_root = 0;
     for (std::size_t k = block * kEventsPerTask; k < std::min(group.size(), (block + 1) * kEventsPerTask); ++k) {
-      const Index root = lane.face_sets.find(lane.event_first_set[k]);
+      const Index root = lane.face_sets.root_of(lane.event_first_set[k]);  // no thread unites now
       lane.event_root[k] = root;
       if (k > block * kEventsPerTask && root == last_root) continue;
       last_root = root;
@@ -379,7 +379,7 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
         tbb::parallel_for(all_faces, [&](const tbb::blocked_range<std::size_t>& range) {
           for (std::size_t k = range.begin(); k < range.end(); ++k) {
             lane.touched_region[k] =
-                lane.region_of_root[lane.face_sets.find(lane.touched[k])].load(std::memory_order_relaxed);
+                lane.region_of_root[lane.face_sets.root_of(lane.touched[k])].load(std::memory_order_relaxed);
             if (!face_boxes) continue;
             Bounds box = empty_bounds();
             for (Index v : scene_.triangles()[lane.touched[k]]) grow(box, x[v]);

@@ -1,6 +1,7 @@
 // ConcurrentUnionFind against a plain serial union-find: random unions on
 // eight threads at once, round after round (clear() between them), give the
-// same sets, each found at its smallest member, and a cleared union-find
+// same sets, each found at its smallest member (by find() and by root_of(),
+// which shortens no path), and a cleared union-find
 // holds every id alone whatever the rounds before left in it.
 #include "report/concurrent_union_find.hpp"
 
@@ -54,6 +55,8 @@ TEST(ConcurrentUnionFind, UnitesOnManyThreadsRoundAfterRoundAsASerialUnionFind) 
     tbb::parallel_for(std::size_t{0}, pairs.size(),
                       [&](std::size_t k) { sets.unite(pairs[k].first, pairs[k].second); });
     const std::vector<std::uint32_t> expected = serial_roots(kSize, pairs);
+    for (std::uint32_t id = 0; id < kSize; ++id)
+      ASSERT_EQ(sets.root_of(id), expected[id]) << "round " << round << " id " << id;
     for (std::uint32_t id = 0; id < kSize; ++id)
       ASSERT_EQ(sets.find(id), expected[id]) << "round " << round << " id " << id;
   }
