@@ -43,9 +43,9 @@ void FrameDigester::Tally::add(const Tally& other) {
   }
 }
 
-// The rules on events [begin, end): their dispositions, whether each is in a
-// region and the rule that allowed it, at the event's own index, and the
-// counts into `sum`.
+// The rules on events [begin, end): their dispositions, the group of each
+// checked one (kNoGroup for the others) and the rule that allowed it, at the
+// event's own index, and the counts into `sum`.
 void FrameDigester::tally(const std::vector<Event>& events, std::size_t begin, std::size_t end,
                           std::vector<std::size_t>& allowed_by, Tally& sum) {
   // The events of a pair come in long runs: the last pair's counts are kept

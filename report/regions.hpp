@@ -54,13 +54,12 @@ inline GroupWord group_word(EventKind kind, std::size_t a, std::size_t b) {
 /// on the threads). The faces around the marked vertices and on the marked
 /// edges are marked in turn, the marked faces listed and joined with their
 /// vertices, and then each event's sets joined (by then, most events find
-/// both in one set and write nothing). The
-/// regions are numbered in the order of their first events, found on all
-/// threads. Then, at once: each region's positions added up in event order,
-/// on one thread; counts, boxes and times, exact in any order, on all
-/// threads; each face's region found on all threads and each region's faces
-/// listed in face order on one thread. The result is the same for any number
-/// of threads.
+/// both in one set and write nothing). The regions are numbered in the order
+/// of their first events, found on all threads. Then, at once: each region's
+/// positions added up in event order, on one thread; counts, boxes and times,
+/// exact in any order, on all threads; each face's region found on all
+/// threads and each region's faces listed in face order on one thread. The
+/// result is the same for any number of threads.
 class RegionBuilder {
  public:
   explicit RegionBuilder(const Scene& scene);
@@ -82,7 +81,7 @@ class RegionBuilder {
   struct Lane;
   /// Lists the faces of the group's events in lane.touched (ascending) and
   /// joins those that an event names together or that share a vertex; keeps
-  /// the set and the place of each event.
+  /// the two sets and the place of each event.
   void join_faces(Lane& lane, const std::vector<Event>& events, const std::vector<std::size_t>& group,
                   std::size_t object_a, std::size_t object_b) const;
   /// Lists in groups_ the events of each group (pair and kind), in event order.
