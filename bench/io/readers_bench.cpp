@@ -1,6 +1,8 @@
 // Reader throughput on a generated ~100k-vertex grid (200k triangles): OBJ
 // text, binary and ASCII PLY, binary STL, and a 50-frame PC2 read through
-// open_cache. With assimp, its OBJ import of the same file is the baseline.
+// open_cache; and a later frame of two-frame OBJ and binary PLY sequences,
+// as a scan reads it (its topology checked against the first frame's). With
+// assimp, its OBJ import of the same file is the baseline.
 // Files are written once to a temporary directory; reads hit the page cache.
 #include <benchmark/benchmark.h>
 #include <unistd.h>
@@ -32,6 +34,7 @@ constexpr int kPc2Frames = 50;
 struct Files {
   std::filesystem::path dir;
   std::string obj, ply_binary, ply_ascii, stl, pc2;
+  std::string obj_sequence, ply_sequence;  ///< printf patterns of two frames, the second moved
   std::vector<float> xyz;          // grid positions
   std::vector<int> triangles;      // 3 per triangle
 
@@ -51,45 +54,59 @@ struct Files {
         triangles.insert(triangles.end(), {a, b, d, a, d, c});
       }
     }
-    write_obj();
-    write_ply(true);
-    write_ply(false);
+    obj = write_obj("grid.obj", 0);
+    ply_binary = write_ply("grid_binary.ply", true, 0);
+    ply_ascii = write_ply("grid_ascii.ply", false, 0);
     write_stl();
     write_pc2();
+    for (int frame = 0; frame < 2; ++frame) {
+      const std::string number = "_000" + std::to_string(frame);
+      write_obj("walk" + number + ".obj", 0.01f * frame);
+      write_ply("walk" + number + ".ply", true, 0.01f * frame);
+    }
+    obj_sequence = (dir / "walk_%04d.obj").string();
+    ply_sequence = (dir / "walk_%04d.ply").string();
   }
   ~Files() { std::filesystem::remove_all(dir); }
 
-  void write_obj() {
-    obj = (dir / "grid.obj").string();
-    FILE* out = std::fopen(obj.c_str(), "w");
+  /// Writes the grid, raised by `lift`, to `name` in the directory; returns its path.
+  std::string write_obj(const std::string& name, float lift) {
+    const std::string path = (dir / name).string();
+    FILE* out = std::fopen(path.c_str(), "w");
     std::fprintf(out, "# grid\no Grid\n");
-    for (std::size_t k = 0; k < xyz.size(); k += 3) std::fprintf(out, "v %.6f %.6f %.6f\n", xyz[k], xyz[k + 1], xyz[k + 2]);
+    for (std::size_t k = 0; k < xyz.size(); k += 3)
+      std::fprintf(out, "v %.6f %.6f %.6f\n", xyz[k], xyz[k + 1] + lift, xyz[k + 2]);
     for (std::size_t k = 0; k < triangles.size(); k += 3) {
       std::fprintf(out, "f %d %d %d\n", triangles[k] + 1, triangles[k + 1] + 1, triangles[k + 2] + 1);
     }
     std::fclose(out);
+    return path;
   }
-  void write_ply(bool binary) {
-    std::string& path = binary ? ply_binary : ply_ascii;
-    path = (dir / (binary ? "grid_binary.ply" : "grid_ascii.ply")).string();
+  /// As write_obj, a PLY file.
+  std::string write_ply(const std::string& name, bool binary, float lift) {
+    const std::string path = (dir / name).string();
+    std::vector<float> lifted = xyz;
+    for (std::size_t k = 1; k < lifted.size(); k += 3) lifted[k] += lift;
     FILE* out = std::fopen(path.c_str(), "wb");
     std::fprintf(out, "ply\nformat %s 1.0\nelement vertex %zu\nproperty float x\nproperty float y\nproperty float z\n"
                  "element face %zu\nproperty list uchar int vertex_indices\nend_header\n",
                  binary ? "binary_little_endian" : "ascii", xyz.size() / 3, triangles.size() / 3);
     if (binary) {
-      std::fwrite(xyz.data(), sizeof(float), xyz.size(), out);
+      std::fwrite(lifted.data(), sizeof(float), lifted.size(), out);
       for (std::size_t k = 0; k < triangles.size(); k += 3) {
         const unsigned char three = 3;
         std::fwrite(&three, 1, 1, out);
         std::fwrite(&triangles[k], sizeof(int), 3, out);
       }
     } else {
-      for (std::size_t k = 0; k < xyz.size(); k += 3) std::fprintf(out, "%.9g %.9g %.9g\n", xyz[k], xyz[k + 1], xyz[k + 2]);
+      for (std::size_t k = 0; k < lifted.size(); k += 3)
+        std::fprintf(out, "%.9g %.9g %.9g\n", lifted[k], lifted[k + 1], lifted[k + 2]);
       for (std::size_t k = 0; k < triangles.size(); k += 3) {
         std::fprintf(out, "3 %d %d %d\n", triangles[k], triangles[k + 1], triangles[k + 2]);
       }
     }
     std::fclose(out);
+    return path;
   }
   void write_stl() {
     stl = (dir / "grid.stl").string();
@@ -163,6 +180,25 @@ void ReadPc2Frames(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(std::filesystem::file_size(files().pc2)));
 }
 
+/// The second frame of a two-frame sequence through open_cache, as a scan
+/// reads it: the file read, its topology checked against the first frame's,
+/// its positions gathered.
+void read_second_frame(benchmark::State& state, const std::string& pattern) {
+  snag::io::CacheOptions options;
+  options.inputs.push_back({pattern, "", ""});
+  const auto source = snag::io::open_cache(options);
+  std::vector<snag::Vec3> positions;
+  for (auto _ : state) {
+    source->read_frame(1, positions);
+    benchmark::DoNotOptimize(positions.data());
+  }
+  char second[4096];
+  std::snprintf(second, sizeof second, pattern.c_str(), 1);
+  state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(std::filesystem::file_size(second)));
+}
+void ReadObjSequenceFrame(benchmark::State& state) { read_second_frame(state, files().obj_sequence); }
+void ReadPlySequenceFrame(benchmark::State& state) { read_second_frame(state, files().ply_sequence); }
+
 #if SNAG_HAVE_ASSIMP
 /// Baseline: assimp's OBJ import with triangulation and no welding (vertices
 /// as listed, like snag's reader), of the same file.
@@ -182,6 +218,8 @@ BENCHMARK(ReadPlyBinary)->Unit(benchmark::kMillisecond);
 BENCHMARK(ReadPlyAscii)->Unit(benchmark::kMillisecond);
 BENCHMARK(ReadStlBinary)->Unit(benchmark::kMillisecond);
 BENCHMARK(ReadPc2Frames)->Unit(benchmark::kMillisecond);
+BENCHMARK(ReadObjSequenceFrame)->Unit(benchmark::kMillisecond);
+BENCHMARK(ReadPlySequenceFrame)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
