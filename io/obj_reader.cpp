@@ -1,5 +1,5 @@
 // Wavefront OBJ reader, hand-written for speed: one pass over the mapped text,
-// std::from_chars for correctly rounded doubles.
+// correctly rounded doubles as std::from_chars reads them (parse_double).
 #include "io/obj_reader.hpp"
 
 #include <charconv>
@@ -7,6 +7,7 @@
 #include <cstring>
 #include <unordered_map>
 
+#include "io/decimal.hpp"
 #include "io/mapped_file.hpp"
 #include "io/reader_support.hpp"
 #include "libcd/core/error.hpp"
@@ -45,7 +46,7 @@ struct ObjParser {
     skip_blanks();
     if (cursor < end && *cursor == '+') ++cursor;
     double value = 0;
-    auto [next, error] = std::from_chars(cursor, end, value);
+    auto [next, error] = parse_double(cursor, end, value);
     if (error == std::errc::result_out_of_range) fail("coordinate out of range");
     if (error != std::errc() || (next < end && !is_blank(*next) && *next != '\n')) fail("expected a number");
     if (!std::isfinite(value)) fail("coordinate is not finite (NaN or Inf)");
