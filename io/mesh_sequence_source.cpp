@@ -24,9 +24,11 @@ MeshSequenceSource::MeshSequenceSource(std::vector<FrameFile> files, const std::
     : files_(std::move(files)), description_(std::move(description)) {
   if (files_.empty()) throw InputError({description_}, "no frames");
   reference_ = read_mesh_file(files_[0].path);
-  if (files_.size() > 1 && lower_extension(files_[0].path) == "ply" &&
-      objects_cover_file_in_order(reference_.objects, reference_.positions.size()))
-    ply_layout_ = PlyFrameLayout::of(MappedFile(files_[0].path).bytes(), files_[0].path);
+  if (files_.size() > 1 && objects_cover_file_in_order(reference_.objects, reference_.positions.size())) {
+    const std::string extension = lower_extension(files_[0].path);
+    if (extension == "ply") ply_layout_ = PlyFrameLayout::of(MappedFile(files_[0].path).bytes(), files_[0].path);
+    if (extension == "obj") obj_layout_.emplace(MappedFile(files_[0].path).bytes());
+  }
   const std::string default_name = files_.size() == 1 ? file_stem(files_[0].path) : sequence_name(files_[0].path);
   scene_ = Scene(make_scene_objects(reference_, files_[0].path, default_name, name_override));
 }
@@ -37,7 +39,11 @@ void MeshSequenceSource::read_frame(std::size_t i, std::vector<Vec3>& positions)
     gather_object_positions(reference_.objects, reference_.positions.data(), positions.data());
     return;
   }
-  if (ply_layout_ && ply_layout_->read_positions(MappedFile(files_[i].path).bytes(), positions)) return;
+  if (ply_layout_ || obj_layout_) {
+    const MappedFile file(files_[i].path);
+    if (ply_layout_ && ply_layout_->read_positions(file.bytes(), positions)) return;
+    if (obj_layout_ && obj_layout_->read_positions(file.bytes(), positions)) return;
+  }
   const MeshData frame = read_mesh_file(files_[i].path);
   check_same_topology(reference_, files_[0].path, frame, files_[i].path, i);
   gather_object_positions(frame.objects, frame.positions.data(), positions.data());

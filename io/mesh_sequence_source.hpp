@@ -8,6 +8,7 @@
 
 #include "io/frame_files.hpp"
 #include "io/mesh_data.hpp"
+#include "io/obj_reader.hpp"
 #include "io/ply_reader.hpp"
 #include "libcd/scene/frame_source.hpp"
 
@@ -27,7 +28,8 @@ class MeshSequenceSource : public FrameSource {
   /// Parses file i only, checks its topology against frame 0 and gathers its
   /// objects' positions; frame 0's come from the read that gave the topology.
   /// A binary PLY file whose bytes but the coordinates are frame 0's (see
-  /// PlyFrameLayout) has only its coordinates read. Throws InputError.
+  /// PlyFrameLayout), or an OBJ file whose lines but the vertices' are
+  /// (ObjFrameLayout), has only its coordinates read. Throws InputError.
   void read_frame(std::size_t i, std::vector<Vec3>& positions) const override;
   std::string description() const override { return description_; }
 
@@ -38,6 +40,7 @@ class MeshSequenceSource : public FrameSource {
   /// hold every vertex in file order (so that the scene's positions are the
   /// file's).
   std::optional<PlyFrameLayout> ply_layout_;
+  std::optional<ObjFrameLayout> obj_layout_;  ///< the same for OBJ files
   Scene scene_;
   std::string description_;
 };

@@ -30,6 +30,7 @@ struct ObjParser {
   }
   bool at_line_end() const { return cursor == end || *cursor == '\n'; }
   void skip_line() {
+    if (cursor >= end || *cursor == '\n') return;
     const void* newline = std::memchr(cursor, '\n', static_cast<std::size_t>(end - cursor));
     cursor = newline ? static_cast<const char*>(newline) : end;
   }
@@ -52,6 +53,24 @@ struct ObjParser {
     if (!std::isfinite(value)) fail("coordinate is not finite (NaN or Inf)");
     cursor = next;
     return value;
+  }
+
+  /// What a line is to parse_obj, read from the line's start: the cursor is
+  /// left after its leading blanks.
+  enum class Line { kSkipped, kVertex, kRead };
+  Line line_kind() {
+    skip_blanks();
+    if (at_line_end() || *cursor == '#') return Line::kSkipped;
+    const char next = cursor + 1 < end ? cursor[1] : '\n';
+    if (*cursor != 'v') return Line::kRead;
+    return is_blank(next) || next == '\n' ? Line::kVertex : Line::kSkipped;  // vn, vt, vp, ...
+  }
+  /// Past the newline that ends the line (cursor at it or at the end).
+  void next_line() {
+    if (cursor < end) {
+      ++cursor;
+      ++line;
+    }
   }
 
   /// One face entry ("7", "7/2", "7//3", "-1/2/3"): the vertex id, resolved
@@ -113,13 +132,12 @@ MeshData parse_obj(std::string_view text, const std::string& file) {
   constexpr std::size_t max_vertices = static_cast<std::size_t>(static_cast<Index>(-1)) - 1;
 
   while (parser.cursor < parser.end) {
-    parser.skip_blanks();
-    if (parser.at_line_end()) {
-    } else {
+    const ObjParser::Line kind = parser.line_kind();
+    if (kind == ObjParser::Line::kRead || kind == ObjParser::Line::kVertex) {
       const char c = *parser.cursor;
       const char next = parser.cursor + 1 < parser.end ? parser.cursor[1] : '\n';
       const bool keyword_ends = ObjParser::is_blank(next) || next == '\n';
-      if (c == 'v' && keyword_ends) {
+      if (kind == ObjParser::Line::kVertex) {
         ++parser.cursor;
         if (mesh.positions.size() >= max_vertices) parser.fail("too many vertices");
         Vec3 p;
@@ -155,10 +173,7 @@ MeshData parse_obj(std::string_view text, const std::string& file) {
       }
     }
     parser.skip_line();
-    if (parser.cursor < parser.end) {
-      ++parser.cursor;
-      ++parser.line;
-    }
+    parser.next_line();
   }
 
   if (highest_index >= static_cast<long long>(mesh.positions.size())) {
@@ -178,6 +193,82 @@ MeshData parse_obj(std::string_view text, const std::string& file) {
 MeshData read_obj(const std::string& path) {
   MappedFile map(path);
   return parse_obj(map.bytes(), path);
+}
+
+namespace {
+
+const std::string kNoFile;
+
+}  // namespace
+
+ObjFrameLayout::ObjFrameLayout(std::string_view text) {
+  ObjParser parser{text.data(), text.data() + text.size(), kNoFile};
+  pieces_.emplace_back();
+  while (parser.cursor < parser.end) {
+    const char* line = parser.cursor;
+    const ObjParser::Line kind = parser.line_kind();
+    parser.skip_line();
+    if (kind == ObjParser::Line::kVertex) {
+      ++pieces_.back().vertices;
+      ++count_;
+    } else if (kind == ObjParser::Line::kRead) {
+      if (pieces_.back().vertices > 0) pieces_.emplace_back();
+      const char* line_end = parser.cursor + (parser.cursor < parser.end);
+      kept_.append(line, line_end);
+      pieces_.back().kept_bytes += static_cast<std::size_t>(line_end - line);
+    }
+    parser.next_line();
+  }
+}
+
+bool ObjFrameLayout::read_positions(std::string_view text, std::vector<Vec3>& positions) const {
+  ObjParser parser{text.data(), text.data() + text.size(), kNoFile};
+  positions.resize(count_);
+  const char* kept = kept_.data();
+  std::size_t piece = 0, kept_left = pieces_[0].kept_bytes, vertices_left = pieces_[0].vertices, vertex = 0;
+  try {
+    while (parser.cursor < parser.end) {
+      const char* line = parser.cursor;
+      const ObjParser::Line kind = parser.line_kind();
+      if (kind == ObjParser::Line::kVertex) {
+        if (kept_left > 0 || vertices_left == 0) return false;
+        --vertices_left;
+        ++parser.cursor;
+        Vec3& p = positions[vertex++];
+        p.x = parser.number();
+        p.y = parser.number();
+        p.z = parser.number();
+      } else if (kind == ObjParser::Line::kRead) {
+        if (kept_left == 0) {  // the next piece's lines
+          if (vertices_left > 0 || ++piece == pieces_.size()) return false;
+          kept_left = pieces_[piece].kept_bytes;
+          vertices_left = pieces_[piece].vertices;
+        }
+        // The piece's lines left, all at once: files alike have them
+        // together (their faces, say). They end with a newline or the file.
+        const auto text_left = static_cast<std::size_t>(parser.end - line);
+        if (kept_left <= text_left && std::memcmp(line, kept, kept_left) == 0 &&
+            (kept[kept_left - 1] == '\n' || kept_left == text_left)) {
+          parser.cursor = line + kept_left;
+          kept += kept_left;
+          kept_left = 0;
+          continue;
+        }
+        parser.skip_line();
+        const auto length = static_cast<std::size_t>(parser.cursor - line) + (parser.cursor < parser.end);
+        if (length > kept_left || std::memcmp(kept, line, length) != 0) return false;
+        kept += length;
+        kept_left -= length;
+        parser.next_line();
+        continue;
+      }
+      parser.skip_line();
+      parser.next_line();
+    }
+  } catch (const InputError&) {
+    return false;  // parse_obj says where
+  }
+  return piece + 1 == pieces_.size() && kept_left == 0 && vertices_left == 0;
 }
 
 }  // namespace snag::io

@@ -4,6 +4,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "io/mesh_data.hpp"
 
@@ -31,5 +32,36 @@ MeshData parse_obj(std::string_view text, const std::string& file);
 
 /// Reads an OBJ file (memory-mapped). Throws InputError.
 MeshData read_obj(const std::string& path);
+
+/// What a later frame of an OBJ sequence must share with the first for its
+/// vertices alone to be read: every line parse_obj may read but the vertex
+/// lines (faces, objects, groups, unknown keywords), byte for byte, in the
+/// same order, with the vertex lines at the same places among them. The lines
+/// it skips whatever they hold (blank lines, comments, and `vn`, `vt` and
+/// other words that begin with `v`: the normals change from frame to frame)
+/// may differ. A frame that shares them parses to the first frame's objects,
+/// and only its vertices need reading.
+class ObjFrameLayout {
+ public:
+  /// The layout of `text`, a file parse_obj accepts.
+  explicit ObjFrameLayout(std::string_view text);
+
+  /// Reads the vertices of `text` (another frame) into `positions` in file
+  /// order, as parse_obj gives them, and returns true, when the file shares
+  /// the first frame's layout. Returns false, `positions` in any state, for
+  /// any other file and for a vertex that parse_obj refuses (it then says
+  /// where).
+  bool read_positions(std::string_view text, std::vector<Vec3>& positions) const;
+
+ private:
+  /// A run of kept lines, then a run of vertex lines (either may be empty).
+  struct Piece {
+    std::size_t kept_bytes = 0;
+    std::size_t vertices = 0;
+  };
+  std::string kept_;           ///< the kept lines, whole, with their newlines
+  std::vector<Piece> pieces_;  ///< how the kept lines and the vertex lines alternate
+  std::size_t count_ = 0;      ///< vertex lines
+};
 
 }  // namespace snag::io

@@ -1,8 +1,12 @@
+#include "io/obj_reader.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
 
-#include "io/obj_reader.hpp"
 #include "test_files.hpp"
 
 namespace snag::io {
@@ -125,6 +129,86 @@ TEST(ObjReader, ReadsFileAndNamesMissingOne) {
   const std::string path = dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   EXPECT_EQ(read_obj(path).objects[0].name, "tri");
   expect_input_error([&] { read_obj(dir.path("missing.obj")); }, "missing.obj: no such file");
+}
+
+/// A Blender-like frame: two objects, normals and texture coordinates that
+/// change with the positions, smoothing and material lines, faces in every
+/// entry form (one relative), and comments.
+std::string blender_like_obj(double lift, const std::string& newline = "\n") {
+  auto number = [](double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6f", value);
+    return std::string(text);
+  };
+  std::string text = "# Blender 4.0 frame " + number(lift) + newline + "mtllib scene.mtl" + newline;
+  text += "o Cloth" + newline;
+  for (int k = 0; k < 4; ++k)
+    text += "v " + number(k % 2) + " " + number(k / 2 + lift) + " " + number(0.125 * k) + newline;
+  text += "vn " + number(lift) + " 0 1" + newline + "vt 0 0" + newline + "vt 1 " + number(lift) + newline;
+  text += "s 0" + newline + "usemtl Cotton" + newline + "f 1/1/1 2/2/1 4/2/1" + newline + "f 1//1 4//1 -2//1" + newline;
+  text += "  # a comment among the faces" + newline;
+  text += "o Ball" + newline;
+  for (int k = 0; k < 3; ++k) text += "v " + number(5 + k) + " " + number(lift) + " " + number(-k) + " 0.5" + newline;
+  text += "vn 0 0 " + number(1 + lift) + newline + "f 5 6 7";  // no newline at the end
+  return text;
+}
+
+// The layout of the first frame reads a later one's vertices as parse_obj
+// does, whatever its normals, texture coordinates and comments say, with LF
+// and CRLF line ends.
+TEST(ObjReader, FrameLayoutReadsTheVerticesOfFramesLikeTheFirst) {
+  for (const std::string newline : {"\n", "\r\n"}) {
+    const std::string first = blender_like_obj(0, newline);
+    const MeshData reference = parse_obj(first, "f_0.obj");
+    ASSERT_EQ(reference.objects.size(), 2u);
+    const ObjFrameLayout layout(first);
+    for (double lift : {0.0, 0.5, -1234.5678}) {
+      const std::string later = blender_like_obj(lift, newline);
+      const MeshData full = parse_obj(later, "f_1.obj");
+      ASSERT_EQ(full.objects.size(), 2u);
+      EXPECT_EQ(full.objects[0].triangles, reference.objects[0].triangles);
+      std::vector<Vec3> positions;
+      ASSERT_TRUE(layout.read_positions(later, positions)) << lift;
+      EXPECT_EQ(positions, full.positions);
+    }
+  }
+}
+
+// A line parse_obj reads that is not the first frame's, a vertex more or
+// less or in another place, a last line that gains a newline, or a vertex
+// parse_obj refuses: the layout declines, and the full parse reads the frame
+// (and says what is wrong with it).
+TEST(ObjReader, FrameLayoutDeclinesFramesNotLikeTheFirst) {
+  const std::string first = blender_like_obj(0);
+  const ObjFrameLayout layout(first);
+  std::vector<Vec3> positions;
+  ASSERT_TRUE(layout.read_positions(blender_like_obj(2), positions));
+  auto declines = [&](const std::string& from, const std::string& to) {
+    std::string other = blender_like_obj(2);
+    const std::size_t at = other.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    other.replace(at, from.size(), to);
+    EXPECT_FALSE(layout.read_positions(other, positions)) << from << " -> " << to;
+  };
+  declines("f 1/1/1 2/2/1 4/2/1", "f 1/1/1 2/2/1 3/2/1");               // another face
+  declines("f 1//1 4//1 -2//1", "f 1//1 4//1 -3//1");                   // another relative index
+  declines("o Ball", "o ball");                                         // another object name
+  declines("s 0\n", "s 1\n");                                           // another line parse_obj may read
+  declines("usemtl Cotton\n", "usemtl Cotton\nl 1 2\n");                // a line more
+  declines("o Ball\n", "o Ball\nv 1 2 3\n");                            // a vertex more
+  declines("v 7.000000 2.000000 -2.000000 0.5\n", "");                  // a vertex less
+  declines("vn 0 0 3.000000\n", "vn 0 0 3.000000\nv 1 2 3\n");          // a vertex after the faces
+  declines("v 1.000000 3.000000 0.375000\n", "");                       // ... and one fewer before them
+  declines("f 5 6 7", "f 5 6 7\n");                                     // a newline at the end
+  declines("f 5 6 7", "f 5 6 7 # closing");                             // the last line longer
+  declines("v 0.000000 2.000000 0.000000", "v 0.000000 nan 0.000000");  // parse_obj refuses these two
+  declines("v 0.000000 2.000000 0.000000", "v 0.000000 2.0x 0.000000");
+  // As many vertices, one after a face's relative index: parse_obj reads other triangles.
+  std::string moved = blender_like_obj(2);
+  moved.replace(moved.find("v 1.000000 3.000000 0.375000\n"), 29, "");
+  moved.replace(moved.find("  # a comment"), 0, "v 1.000000 3.000000 0.375000\n");
+  EXPECT_NE(parse_obj(moved, "m.obj").objects[0].triangles, parse_obj(first, "f.obj").objects[0].triangles);
+  EXPECT_FALSE(layout.read_positions(moved, positions));
 }
 
 }  // namespace

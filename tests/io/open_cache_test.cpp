@@ -146,6 +146,32 @@ TEST(OpenCache, ReadsBinaryPlySequencesLikeTheirFullParse) {
   EXPECT_EQ(positions[0].x, 8.0);
 }
 
+TEST(OpenCache, ReadsObjSequencesLikeTheirFullParse) {
+  testing::TempDir dir;
+  for (int frame : {0, 1, 2}) dir.write("q" + std::to_string(frame) + ".obj", triangle_obj(0.5 + frame));
+  std::string normals = triangle_obj(3.5);  // normals and a comment of its own: read from its vertices alone
+  normals.replace(normals.find("f 1"), 0, "vn 0 0 1\n# frame 3\n");
+  dir.write("q3.obj", normals);
+  std::string other = triangle_obj(4);
+  other.replace(other.find("f 2 4 3"), 7, "f 2 4 1");
+  dir.write("q4.obj", other);
+  std::string bad = triangle_obj(5);
+  bad.replace(bad.find("v 1 1 0"), 7, "v 1 inf 0");
+  dir.write("q5.obj", bad);
+  dir.write("q6.obj", "s 1\n" + triangle_obj(6));  // another line: parsed in full, the same topology
+  const auto source = open_cache(one_input(dir.path("q%d.obj")));
+  std::vector<Vec3> positions;
+  for (int frame : {1, 2, 3}) {
+    source->read_frame(frame, positions);
+    EXPECT_EQ(positions, (std::vector<Vec3>{{0.5 + frame, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}));
+  }
+  expect_input_error([&] { source->read_frame(4, positions); },
+                     "q4.obj: frame 4: triangle 1 is (1,3,0), expected (1,3,2)");
+  expect_input_error([&] { source->read_frame(5, positions); }, "q5.obj:4: coordinate is not finite");
+  source->read_frame(6, positions);
+  EXPECT_EQ(positions[0].x, 6.0);
+}
+
 TEST(OpenCache, CombinesInputsAsNamedObjects) {
   testing::TempDir dir;
   for (int frame : {1, 2}) {
