@@ -1,9 +1,11 @@
+#include "io/mapped_file.hpp"
 #include "io/obj_reader.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -209,6 +211,29 @@ TEST(ObjReader, FrameLayoutDeclinesFramesNotLikeTheFirst) {
   moved.replace(moved.find("  # a comment"), 0, "v 1.000000 3.000000 0.375000\n");
   EXPECT_NE(parse_obj(moved, "m.obj").objects[0].triangles, parse_obj(first, "f.obj").objects[0].triangles);
   EXPECT_FALSE(layout.read_positions(moved, positions));
+}
+
+// The OBJ sequences Blender exported (tests/real_assets, make_real_assets.py):
+// the first frame's layout reads every later frame, as the parser reads it.
+TEST(ObjReader, FrameLayoutReadsEveryFrameOfBlendersObjSequences) {
+  const std::string data = std::string(SNAG_SOURCE_DIR) + "/tests/real_assets/data/";
+  for (const char* scene : {"rigid_box", "rigid_cylinder", "bent_tube", "garment", "box_through_box"}) {
+    auto frame_path = [&](int frame) {
+      char name[32];
+      std::snprintf(name, sizeof name, "/obj_%04d.obj", frame);
+      return data + scene + name;
+    };
+    const MappedFile first(frame_path(0));
+    const ObjFrameLayout layout(first.bytes());
+    int frames = 0;
+    for (int frame = 1; std::filesystem::exists(frame_path(frame)); ++frame, ++frames) {
+      const MappedFile later(frame_path(frame));
+      std::vector<Vec3> positions;
+      ASSERT_TRUE(layout.read_positions(later.bytes(), positions)) << scene << " frame " << frame;
+      EXPECT_EQ(positions, parse_obj(later.bytes(), frame_path(frame)).positions) << scene << " frame " << frame;
+    }
+    EXPECT_GE(frames, 16) << scene;
+  }
 }
 
 }  // namespace
