@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <future>
 #include <tuple>
 
@@ -91,11 +92,17 @@ namespace {
 // so that one slow frame (the first, which lists the most events) is taken
 // up by the next ones instead of stopping the scan.
 constexpr std::size_t kFramesInSink = 2;
+// Frames read at once, ahead of the step, at most: one, and two once a step
+// has waited for its frame. A text format (OBJ, ASCII PLY) can take as long
+// to read as a step of the GPU back end, and two reads at a time keep it off
+// the step's path; a quick read (binary PLY) stays alone, off the workers
+// of the step and the sink.
+constexpr std::size_t kFramesReading = 2;
 // Frame buffers: the frames in the sink (and the step's next frame of the
 // last of them), the step the back end works on and the frame after it
-// (prepared, so that a back end can start the next step), and the one being
+// (prepared, so that a back end can start the next step), and the ones being
 // read.
-constexpr std::size_t kFrameBuffers = kFramesInSink + 4;
+constexpr std::size_t kFrameBuffers = kFramesInSink + 3 + kFramesReading;
 // Event lists: one per frame in the sink, and the one being filled.
 constexpr std::size_t kEventBuffers = kFramesInSink + 1;
 
@@ -155,13 +162,18 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
   // the sink's thread.
   std::vector<Vec3> frames[kFrameBuffers];
   std::vector<Event> events[kEventBuffers];
-  std::future<double> reading;  // after the buffers: joined before they go
-  auto read_ahead = [&](std::size_t i) {
-    reading = std::async(std::launch::async, [&source, &frames, i] {
-      const auto read_start = Clock::now();
-      source.read_frame(i, frames[i % kFrameBuffers]);
-      return seconds_since(read_start);
-    });
+  // Frames being read, in frame order: at most `frames_reading`, frame
+  // `next_read` the next to start. After the buffers: joined before they go.
+  std::deque<std::future<double>> reading;
+  std::size_t next_read = 1, frames_reading = 1;
+  auto read_ahead = [&](std::size_t last) {
+    for (; next_read <= last && next_read < frame_count; ++next_read) {
+      reading.push_back(std::async(std::launch::async, [&source, &frames, i = next_read] {
+        const auto read_start = Clock::now();
+        source.read_frame(i, frames[i % kFrameBuffers]);
+        return seconds_since(read_start);
+      }));
+    }
   };
   try {
     // After the buffers: on the way out it waits for the frame in the sink
@@ -172,15 +184,20 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
     SinkThread sinking(sink, kFramesInSink, [](ScannedFrame& frame) {
       finish_events(*frame.events, frame.summary.collisions, frame.summary);
     });
-    // Frame i is read ahead, then prepared (for collisions) and the frame
-    // after it read, while frame i - 2 is worked on.
+    // Frame i is read ahead, then prepared (for collisions) and the frames
+    // after it read, while frame i - 2 is worked on. Frame i > 1 was begun a
+    // step ago: when it is not read yet, reading is slower than the steps,
+    // and two frames are read at a time from then on.
     auto take_read = [&](std::size_t i) {
-      totals.read_seconds += reading.get();
+      std::future<double> read = std::move(reading.front());
+      reading.pop_front();
+      if (i > 1 && read.wait_for(std::chrono::seconds(0)) != std::future_status::ready) frames_reading = kFramesReading;
+      totals.read_seconds += read.get();
       if (settings.collisions) backend.prepare(frames[i % kFrameBuffers]);
-      if (i + 1 < frame_count) read_ahead(i + 1);
+      read_ahead(i + frames_reading);
     };
     if (frame_count > 0) {
-      // Frame 1 is read on the reading thread while frame 0 is read here.
+      // Frame 1 is read on a reading thread while frame 0 is read here.
       const bool step = frame_count > 1 && detect;
       if (step) read_ahead(1);
       const auto read_start = Clock::now();
@@ -222,7 +239,7 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
     totals.sink_seconds = sinking.sink_seconds();
     totals.sink_wait_seconds = sinking.wait_seconds();
   } catch (...) {
-    if (reading.valid()) reading.wait();  // the sink's thread has ended by now
+    for (std::future<double>& read : reading) read.wait();  // the sink's thread has ended by now; each is valid
     throw;
   }
   totals.total_seconds = seconds_since(start);

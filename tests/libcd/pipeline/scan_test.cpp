@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -99,6 +100,46 @@ TEST(ScanCache, IntersectionsOnlyPrepareNothing) {
   (void)scan_cache(source, backend, settings);
   const std::vector<std::string> expected = {"i0", "i1", "i2"};
   EXPECT_EQ(backend.calls, expected);
+}
+
+/// A slow source that counts the reads of frames after the first under way,
+/// and the most at once.
+class SlowSource final : public FrameSource {
+ public:
+  explicit SlowSource(std::size_t frames) : scene_({make_object("tri", 3, {Triangle{0, 1, 2}})}), frames_(frames) {}
+  const Scene& scene() const override { return scene_; }
+  std::size_t frame_count() const override { return frames_; }
+  void read_frame(std::size_t i, std::vector<Vec3>& positions) const override {
+    const int now = i > 0 ? ++reading_ : 0;
+    int seen = most_.load();
+    while (now > seen && !most_.compare_exchange_weak(seen, now)) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    positions = {Vec3{double(i), 0, 0}, Vec3{double(i), 1, 0}, Vec3{double(i), 0, 1}};
+    if (i > 0) --reading_;
+  }
+  std::string description() const override { return "slow frames"; }
+  int most() const { return most_; }
+
+ private:
+  Scene scene_;
+  std::size_t frames_;
+  mutable std::atomic<int> reading_{0}, most_{0};
+};
+
+// Reads slower than the steps: once a step has waited for its frame, the
+// frames after it are read two at a time, each into a buffer of its own,
+// and the steps still see their frames, in order.
+TEST(ScanCache, ReadsTwoFramesAtATimeOnceAStepWaitsForItsFrame) {
+  const SlowSource source(8);
+  RecordingBackend backend;
+  const ScanResult result = scan_cache(source, backend, ScanSettings{});
+  EXPECT_EQ(source.most(), 2);
+  ASSERT_EQ(result.frames.size(), 8u);
+  std::vector<std::string> collisions;
+  for (const std::string& call : backend.calls)
+    if (call[0] == 'c') collisions.push_back(call);
+  EXPECT_EQ(collisions, (std::vector<std::string>{"c0-1", "c1-2", "c2-3", "c3-4", "c4-5", "c5-6", "c6-7"}));
 }
 
 TEST(ScanCache, AReadErrorAheadComesOutOfTheScan) {
