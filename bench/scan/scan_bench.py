@@ -30,6 +30,8 @@ was in use before it started).
 
 Scenes (those whose files are missing are skipped, with a note):
   cloth_ball      cloth_ball92 -> 93 of the shared meshes (92,230 triangles)
+  cloth_ball_obj  the same two frames written as an OBJ sequence (six decimals, as
+                  Blender writes them) into --work: what reading text costs
   sample          samples/cloth_ball (its manifest: cloth and ball, rules), from frame 20
   cloth_ball_x4   cloth_ball Loop-subdivided once (368,920 triangles), the whole step
   cloth_ball_x16  twice (1,475,680 triangles), the whole step; written by
@@ -59,6 +61,7 @@ import hashlib
 import json
 import os
 import shutil
+import struct
 import statistics
 import subprocess
 import sys
@@ -163,12 +166,51 @@ def alternating(t0, t1):
     return lambda frames: ["--sequence", *[(t0, t1)[k % 2] for k in range(frames)]]
 
 
+def ply_to_obj(ply, obj):
+    """Writes a binary PLY mesh (float x, y, z first among the vertex's
+    properties, faces as uchar-counted int lists) as OBJ with six decimals."""
+    with open(ply, "rb") as f:
+        data = f.read()
+    body = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:body].decode("ascii").split("\n")
+    order = ">" if "format binary_big_endian 1.0" in header else "<"
+    counts = {line.split()[1]: int(line.split()[2]) for line in header if line.startswith("element ")}
+    vertex_props = []
+    for line in header:
+        if line.startswith("element "):
+            element = line.split()[1]
+        elif line.startswith("property ") and element == "vertex":
+            vertex_props.append(line.split()[1])
+    assert vertex_props[:3] == ["float"] * 3 and set(vertex_props) == {"float"}, f"{ply}: unexpected vertex layout"
+    stride = 4 * len(vertex_props)
+    lines = []
+    for k in range(counts["vertex"]):
+        x, y, z = struct.unpack_from(order + "3f", data, body + k * stride)
+        lines.append(f"v {x:.6f} {y:.6f} {z:.6f}\n")
+    at = body + counts["vertex"] * stride
+    for _ in range(counts["face"]):
+        n = data[at]
+        ids = struct.unpack_from(order + f"{n}i", data, at + 1)
+        lines.append("f " + " ".join(str(i + 1) for i in ids) + "\n")
+        at += 1 + 4 * n
+    with open(obj, "w") as f:
+        f.write("# cloth_ball, from " + os.path.basename(ply) + "\no cloth_ball\n")
+        f.writelines(lines)
+
+
 def make_scenes(args, work):
     scenes = {}
     meshes = args.meshes
     m92, m93 = os.path.join(meshes, "cloth_ball92.ply"), os.path.join(meshes, "cloth_ball93.ply")
     if os.path.exists(m92) and os.path.exists(m93):
         scenes["cloth_ball"] = Scene("cloth_ball", 92230, alternating(m92, m93))
+        if "cloth_ball_obj" in args.scenes.split(","):
+            objs = [os.path.join(work, "cloth_ball_obj", f"cloth_ball{k}.obj") for k in (92, 93)]
+            if not all(os.path.exists(obj) for obj in objs):
+                os.makedirs(os.path.dirname(objs[0]), exist_ok=True)
+                for ply, obj in zip((m92, m93), objs):
+                    ply_to_obj(ply, obj)
+            scenes["cloth_ball_obj"] = Scene("cloth_ball_obj", 92230, alternating(*objs))
     manifest = os.path.join(args.samples, "cloth_ball", "scene.yaml")
     if os.path.exists(manifest):
         # From frame 20 on, where the cloth lies on the ball (the first frames have no contact).
