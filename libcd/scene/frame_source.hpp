@@ -27,7 +27,7 @@ class FrameSource {
   virtual std::size_t frame_index(std::size_t i) const { return i; }
   /// Reads frame i's global vertex positions (scene().vertex_count() of them)
   /// into `positions`, resizing it. Throws InputError on bad data. Several
-  /// threads may read frames at once (a scan reads up to three at a time).
+  /// threads may read frames at once (a scan reads up to two at a time).
   virtual void read_frame(std::size_t i, std::vector<Vec3>& positions) const = 0;
   /// A short human description of where the frames come from ("PC2 cloth.pc2").
   virtual std::string description() const = 0;
