@@ -55,15 +55,19 @@ struct ObjParser {
     return value;
   }
 
+  /// Whether the word at the cursor is its one letter ("v", not "vn").
+  bool one_letter_word() const {
+    const char next = cursor + 1 < end ? cursor[1] : '\n';
+    return is_blank(next) || next == '\n';
+  }
   /// What a line is to parse_obj, read from the line's start: the cursor is
   /// left after its leading blanks.
   enum class Line { kSkipped, kVertex, kRead };
   Line line_kind() {
     skip_blanks();
     if (at_line_end() || *cursor == '#') return Line::kSkipped;
-    const char next = cursor + 1 < end ? cursor[1] : '\n';
     if (*cursor != 'v') return Line::kRead;
-    return is_blank(next) || next == '\n' ? Line::kVertex : Line::kSkipped;  // vn, vt, vp, ...
+    return one_letter_word() ? Line::kVertex : Line::kSkipped;  // vn, vt, vp, ...
   }
   /// Past the newline that ends the line (cursor at it or at the end).
   void next_line() {
@@ -135,8 +139,7 @@ MeshData parse_obj(std::string_view text, const std::string& file) {
     const ObjParser::Line kind = parser.line_kind();
     if (kind == ObjParser::Line::kRead || kind == ObjParser::Line::kVertex) {
       const char c = *parser.cursor;
-      const char next = parser.cursor + 1 < parser.end ? parser.cursor[1] : '\n';
-      const bool keyword_ends = ObjParser::is_blank(next) || next == '\n';
+      const bool keyword_ends = parser.one_letter_word();
       if (kind == ObjParser::Line::kVertex) {
         ++parser.cursor;
         if (mesh.positions.size() >= max_vertices) parser.fail("too many vertices");
