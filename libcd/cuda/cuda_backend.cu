@@ -27,9 +27,11 @@
 //  - certification: the answers left uncertain go to settings.certifier on
 //    the CPU, as in the CPU back end.
 //  - events: built on the device from the same doubles with the same
-//    formulas (compiled with --fmad=false), settled on the host, and sorted
-//    with event_order (only when the broad phase ran in several chunks): bit-identical to the
-//    CPU back end's. Intersection events are built on the device too.
+//    formulas (compiled with --fmad=false), each narrow round's in event
+//    order (the round's few hits sorted on the device, not the candidates),
+//    settled on the host, and sorted with event_order when they came in
+//    several chunks or rounds: bit-identical to the CPU back end's.
+//    Intersection events are built on the device too.
 //  - device memory: everything the back end allocates (DeviceBuffer) stays
 //    within a budget: BackendSettings::device_memory_bytes, or what the
 //    device has free at bind() less a margin. The CCD detection (broad and
@@ -38,7 +40,7 @@
 //    the topology and frames; the broad phase turns that into chunks of
 //    candidates (cuda_broad_phase.cuh), the narrow phases into rounds (the
 //    CCD's two share the narrow phase's room). The
-//    hits of several chunks are put back in candidate order, so the events
+//    hits of several chunks are put back in event order, so the events
 //    are those of one chunk. When the other detection holds more than half
 //    of what the topology and frames leave, it gives its buffers back first;
 //    when it holds less and the limit refuses this one, it gives them back
@@ -82,6 +84,7 @@
 #include "libcd/cuda/cuda_check.cuh"
 #include "libcd/cuda/cuda_event.cuh"
 #include "libcd/cuda/device_buffer.cuh"
+#include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/narrow_phase.cuh"
 #include "libcd/pipeline/event_builder.hpp"
 
@@ -179,7 +182,11 @@ struct CcdFound {
   int slot_t0 = -1, slot_t1 = -1;
   std::vector<Event> events;  ///< detected ahead: the events of the chunks before the last
   std::size_t vf_count = 0, ee_count = 0;
-  std::size_t chunks = 0;  ///< of the broad phase's candidates: with one, the events are in event order
+  /// Chunks of the broad phase's candidates, and the most rounds one of the
+  /// two narrow phases ran in (each round's events are in event order, and
+  /// vertex-face events come before edge-edge ones): the step's events are in
+  /// event order when both are at most 1.
+  std::size_t chunks = 0, rounds = 0;
   BroadPhaseStats broad;
   double narrow_seconds = 0, device_seconds = 0;
 };
@@ -278,6 +285,14 @@ class CudaBackend final : public Backend {
     BroadPhaseSettings static_settings = broad;
     static_settings.thickness = 0;
     static_broad_->build(scene, static_settings);
+    // The CCD's candidates come unsorted (in the order of their triangle
+    // pairs): each narrow round sorts its hits instead, a few in a thousand
+    // of them, into the event order of their kind.
+    const int face_bits = detail::radix_bits(scene.triangle_count() > 0 ? scene.triangle_count() - 1 : 0);
+    const int vertex_bits = detail::radix_bits(scene.vertex_count() > 0 ? scene.vertex_count() - 1 : 0);
+    const int edge_bits = detail::radix_bits(scene.edge_count() > 0 ? scene.edge_count() - 1 : 0);
+    narrow_.set_event_order(face_bits, vertex_bits + face_bits);
+    edge_narrow_.set_event_order(edge_bits, 2 * edge_bits);
     // The scan's thread copies and settles a step's events in this arena. Not
     // at a higher priority than the others: the report's sink, the slowest
     // stage of a scan with intersections, would lose its workers to it.
@@ -388,14 +403,14 @@ class CudaBackend final : public Backend {
       narrow_seconds += seconds_since(flush_start);
     }
     // What the screen left undecided: the whole test and certification, on
-    // the CPU. Each chunk's events are in candidate order, vertex-face before
-    // edge-edge, which is event order; those of several chunks are put in
-    // event order (settling drops events, keeping the order).
+    // the CPU. Each round's events are in event order, vertex-face before
+    // edge-edge; those of several chunks or rounds are put in event order
+    // (settling drops events, keeping the order).
     const auto events_start = std::chrono::steady_clock::now();
     arena_->execute([&] {
       settle_collision_events(*scene_, x_t0, x_t1, found.vf_count, found.ee_count, settings_.ccd, settings_.certifier,
                               stats_.narrow, events, first, &event_scratch_);
-      if (found.chunks > 1) sort_events_from(events, first, &event_scratch_);
+      if (found.chunks > 1 || found.rounds > 1) sort_events_from(events, first, &event_scratch_);
     });
     stats_.narrow.seconds_ccd_events = seconds_since(events_start) - stats_.narrow.seconds_certify;
     // The narrow phase's rounds ran inside the broad phase's chunks.
@@ -611,7 +626,7 @@ class CudaBackend final : public Backend {
       edge_narrow_.reset_timings();
       found.vf_count = found.ee_count = found.chunks = 0;
       found.narrow_seconds = 0;
-      ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk);
+      ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk, /*sorted=*/false);
     });
     claim();  // a step without candidates
     event_copies_.wait();
@@ -623,6 +638,7 @@ class CudaBackend final : public Backend {
       device_ms += device.screen_ms + device.search_ms + device.compact_ms;
     }
     found.device_seconds = 1e-3 * device_ms;
+    found.rounds = std::max(narrow_.timings().rounds, edge_narrow_.timings().rounds);
   }
 
   // Whether both detections fit in half of what the topology and frames

@@ -254,7 +254,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
 }
 
 void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
-                                          const CandidateVisitor& visit) {
+                                          const CandidateVisitor& visit, bool sorted) {
   if (scene_ == nullptr) throw UsageError("broad phase: build() must be called before detection");
   use_stream(stream);
   upload_representatives();
@@ -282,7 +282,8 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
           visit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - visit_start).count();
           DeviceMemoryTracker::set_stage("broad phase: features");
           features_start.record(stream);
-        });
+        },
+        sorted);
   });
   DeviceMemoryTracker::set_stage("other");
   stats_.vf_before_culling = counts.vf_before;

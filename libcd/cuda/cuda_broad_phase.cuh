@@ -87,12 +87,15 @@ class CudaBroadPhase final : public BroadPhase {
 
   /// Continuous candidates for positions already on the device, handed to
   /// `visit` chunk by chunk (DeviceCandidates::vf and ee; one chunk when the
-  /// budget allows): every candidate once, each chunk's sorted.
+  /// budget allows): every candidate once, each chunk's sorted, or with
+  /// `sorted` false in the order of their triangle pairs
+  /// (representative_feature_pairs_on_device).
   /// @param d_x_t0, d_x_t1  #V device positions at the start and end of the step
   /// @param stream          stream to run on (visit may queue work on it)
   /// Throws UsageError when build() was not called or the budget is too
   /// small for one chunk, CudaError.
-  void detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, const CandidateVisitor& visit);
+  void detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, const CandidateVisitor& visit,
+                            bool sorted = true);
   /// Static triangle pairs for #V device positions d_x (DeviceCandidates::pairs
   /// only), chunk by chunk in ascending order.
   void detect_static_on_device(const Vec3* d_x, cudaStream_t stream, const CandidateVisitor& visit);

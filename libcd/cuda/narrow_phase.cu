@@ -12,6 +12,7 @@
 
 #include "libcd/cuda/cuda_check.cuh"
 #include "libcd/cuda/cuda_event.cuh"
+#include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/triangle_triangle.hpp"
@@ -343,6 +344,24 @@ __global__ void collision_event_kernel(Query query, const std::uint32_t* __restr
   stage.write(event, k, count, events);
 }
 
+// The event order of a candidate's events among those of its kind (event.hpp:
+// vertex, then face; edge a, then edge b) as a radix sort key.
+__device__ std::uint64_t event_order_key(const VertexFaceCandidate& c, int low_bits) {
+  return detail::pack_key(c.vertex, c.face, low_bits);
+}
+__device__ std::uint64_t event_order_key(const EdgeEdgeCandidate& c, int low_bits) {
+  return detail::pack_key(c.edge_a, c.edge_b, low_bits);
+}
+
+// keys[k] = event_order_key of candidates[subset[k]], for k < count.
+template <class Candidate>
+__global__ void event_order_keys_kernel(const Candidate* __restrict__ candidates,
+                                        const std::uint32_t* __restrict__ subset, std::size_t count, int low_bits,
+                                        std::uint64_t* __restrict__ keys) {
+  const std::size_t k = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (k < count) keys[k] = event_order_key(candidates[subset[k]], low_bits);
+}
+
 // events[k] = the intersection event of the intersecting pair pairs[subset[k]], for k < count.
 __global__ void intersection_event_kernel(const Vec3* __restrict__ x, const Index* __restrict__ corners,
                                           const TrianglePair* __restrict__ pairs,
@@ -472,6 +491,23 @@ const T* CudaNarrowPhase::stage_selected(const T* items, std::size_t count) {
   return staged;
 }
 
+template <class Candidate>
+void CudaNarrowPhase::order_hits(const Candidate* candidates, std::size_t hits) {
+  // keys, the sorted keys, the sorted indices: 20 bytes a hit, within the
+  // room of its event (kCcdEventBytesPerCandidate).
+  static_assert(2 * sizeof(std::uint64_t) + sizeof(std::uint32_t) <= kCcdEventBytesPerCandidate,
+                "a round's sort keys fit in the room its events take");
+  std::uint64_t* keys = gathered_as<std::uint64_t>(2 * hits + (hits + 1) / 2, "the hits' sort keys");
+  std::uint64_t* sorted_keys = keys + hits;
+  auto* sorted = reinterpret_cast<std::uint32_t*>(keys + 2 * hits);
+  event_order_keys_kernel<<<blocks_for(hits), kBlockSize, 0, stream_>>>(candidates, selected_.data(), hits,
+                                                                        order_low_bits_, keys);
+  SNAG_CUDA_CHECK_LAUNCH();
+  detail::radix_sort_pairs(keys, sorted_keys, selected_.data(), sorted, hits, order_end_bit_, temp_, stream_);
+  SNAG_CUDA_CHECK(
+      cudaMemcpyAsync(selected_.data(), sorted, hits * sizeof(std::uint32_t), cudaMemcpyDeviceToDevice, stream_));
+}
+
 template <class Launch>
 void CudaNarrowPhase::stage_events(std::size_t hits, std::size_t slice, Launch launch) {
   staged_events_ ^= 1;  // the other buffer may still be read by event_copies_
@@ -540,6 +576,7 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   const bool search = passes == CcdPasses::kScreenThenSearch;
   DeviceMemoryTracker::set_stage("narrow phase");
   CudaEvent start, screened, compacted, searched;
+  ++timings_.rounds;
   resize_or_throw(results_, count, "CCD results");
   resize_or_throw(flags_, count, "CCD flags");
   start.record(stream_);
@@ -605,6 +642,7 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   const typename Query::Candidate* candidates = nullptr;
   if (survivors > 0 && sink.events != nullptr) {
     // Without the search, every survivor is a hit whose answer is in results_.
+    if (order_end_bit_ > 0 && survivors > 1) order_hits(query.candidates, survivors);
     stage_events(survivors, count * kCcdEventBytesPerCandidate / sizeof(Event),
                  [&](std::size_t hit, std::size_t n, Event* events) {
                    collision_event_kernel<<<blocks_for(n), kBlockSize, 0, stream_>>>(

@@ -91,6 +91,7 @@ struct NarrowPhaseTimings {
   float compact_ms = 0;  ///< compactions and downloads
   float static_ms = 0;   ///< triangle-pair tests
   std::size_t searched = 0;  ///< candidates that reached the search pass
+  std::size_t rounds = 0;    ///< CCD rounds (set_chunk_size) the calls ran in
 };
 
 /// Owns the device buffers of the narrow phase; reused from call to call.
@@ -173,6 +174,17 @@ class CudaNarrowPhase {
   /// of two pinned buffers, so the next round need not wait for the thread.
   void set_event_copies(TaskQueueThread* thread) { event_copies_ = thread; }
 
+  /// The order of the events the CCD *_events calls build: with end_bit >
+  /// 0, each round's hits are sorted by their candidates (the first id above
+  /// the second, which takes low_bits bits; end_bit bits in all) before their
+  /// events are built, so that a round's events are in event order whatever
+  /// the candidates' order (the broad phase's unsorted candidates). 0 (the
+  /// default): in candidate order.
+  void set_event_order(int low_bits, int end_bit) {
+    order_low_bits_ = low_bits;
+    order_end_bit_ = end_bit;
+  }
+
   /// Candidates (or pairs) per kernel round; a call over more runs in rounds
   /// of this many, so that the device memory of a call is bounded by the
   /// round, not by the candidate count. Results do not depend on it.
@@ -234,6 +246,11 @@ class CudaNarrowPhase {
   template <class Launch>
   void stage_events(std::size_t hits, std::size_t slice, Launch launch);
   void append_staged_events(std::size_t count, std::vector<Event>& events);
+  /// Sorts the first `hits` indices of selected_ by their candidates'
+  /// event order (set_event_order), with gathered_ as scratch (the room the
+  /// hits' events take after it).
+  template <class Candidate>
+  void order_hits(const Candidate* candidates, std::size_t hits);
   /// Compacts the indices k < count of the flagged candidates into
   /// selected_ and their count into selected_count_, on the device.
   void select_flagged_on_device(std::size_t count);
@@ -274,6 +291,7 @@ class CudaNarrowPhase {
   std::size_t last_survivors_ = 0;       ///< the last round's candidates the early exits left to the time search
   unsigned int refine_block_limit_ = 1;  ///< the refine kernel's blocks: kRefineBlocksPerSm per multiprocessor
   unsigned int quick_block_limit_ = 1;   ///< the quick kernel's blocks: kQuickBlocksPerSm per multiprocessor
+  int order_low_bits_ = 0, order_end_bit_ = 0;  ///< set_event_order
 };
 
 /// Resizes `buffer` to `count`; when the device cannot hold it, throws

@@ -252,7 +252,8 @@ void representative_feature_pairs_on_device(
     const DeviceTopology& topology, const DevicePrimitiveBounds& bounds, std::size_t vertex_count,
     std::size_t edge_count, const TrianglePair* pairs, std::size_t n, std::size_t candidate_room, DeviceFeatures& f,
     cudaStream_t stream, FeatureCounts& counts,
-    const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit) {
+    const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit,
+    bool sorted) {
   if (n == 0) return;
   if (candidate_room <= kMostCandidatesPerPair)
     throw UsageError("the device memory limit is too small for this scene: the feature stage has room for " +
@@ -302,7 +303,8 @@ void representative_feature_pairs_on_device(
     SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
   }
 
-  // Keys are unique (see representative_triangles.hpp); a sort orders them as the CPU's.
+  // Keys are unique (see representative_triangles.hpp); a sort orders them
+  // as the CPU's (unless `sorted` is false).
   const std::size_t triangle_count = topology.triangles.size();
   const FeatureKeyBits bits{radix_bits(triangle_count > 0 ? triangle_count - 1 : 0),
                             radix_bits(edge_count > 0 ? edge_count - 1 : 0)};
@@ -314,13 +316,15 @@ void representative_feature_pairs_on_device(
     if (end == first) continue;
     f.vf_keys.resize(vf_n);
     f.ee_keys.resize(ee_n);
-    f.vf_sorted.resize(vf_n);
-    f.ee_sorted.resize(ee_n);
+    f.vf_sorted.resize(sorted ? vf_n : 0);
+    f.ee_sorted.resize(sorted ? ee_n : 0);
     write_kernel<<<blocks_for(end - first), detail::kBlockSize, 0, stream>>>(
         in, first, end - first, f.kept.data(), f.tally.data(), bits, f.vf_keys.data(), f.ee_keys.data());
     SNAG_CUDA_CHECK_LAUNCH();
-    const std::uint64_t* vf_sorted = sort_keys(f.vf_keys.data(), f.vf_sorted.data(), vf_n, vf_bits, f.temp, stream);
-    const std::uint64_t* ee_sorted = sort_keys(f.ee_keys.data(), f.ee_sorted.data(), ee_n, ee_bits, f.temp, stream);
+    const std::uint64_t* vf_sorted =
+        sorted ? sort_keys(f.vf_keys.data(), f.vf_sorted.data(), vf_n, vf_bits, f.temp, stream) : f.vf_keys.data();
+    const std::uint64_t* ee_sorted =
+        sorted ? sort_keys(f.ee_keys.data(), f.ee_sorted.data(), ee_n, ee_bits, f.temp, stream) : f.ee_keys.data();
     f.vf.resize(vf_n);
     f.ee.resize(ee_n);
     if (vf_n > 0) {

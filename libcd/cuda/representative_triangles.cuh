@@ -76,9 +76,11 @@ constexpr std::size_t kMostCandidatesPerPair = 15;
 /// Representative feature pairs of pair_count unique device triangle pairs,
 /// handed to `visit` in parts of consecutive pairs, each part's vertex-face
 /// and edge-edge candidates sorted (device arrays valid until visit
-/// returns). A part holds at most candidate_room candidates (vertex-face and
-/// edge-edge together), so that the stage's memory is bounded by the room;
-/// one part when they all fit. Adds the counts to `counts` (as the CPU's).
+/// returns); with `sorted` false, in the order of their triangle pairs
+/// instead (a pair's as count_kernel finds them), which saves the sorts of
+/// every candidate for a caller that orders only what it keeps of them. A part holds at most candidate_room candidates
+/// (vertex-face and edge-edge together), so that the stage's memory is bounded by the room; one part when they all fit.
+/// Adds the counts to `counts` (as the CPU's).
 /// @param bounds  the step's swept DOPs of triangles, edges and vertices and
 ///                their float boxes (a feature pair whose boxes are apart is
 ///                culled without reading its DOPs)
@@ -87,6 +89,7 @@ void representative_feature_pairs_on_device(
     const DeviceTopology& topology, const DevicePrimitiveBounds& bounds, std::size_t vertex_count,
     std::size_t edge_count, const TrianglePair* pairs, std::size_t pair_count, std::size_t candidate_room,
     DeviceFeatures& features, cudaStream_t stream, FeatureCounts& counts,
-    const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit);
+    const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit,
+    bool sorted = true);
 
 }  // namespace snag

@@ -24,8 +24,9 @@
 #include "libcd/cuda/adaptive_cells.cuh"
 #include "libcd/cuda/cuda_broad_phase.cuh"
 #include "libcd/cuda/cuda_broad_phase.hpp"
-#include "libcd/grid/pair_index.hpp"
+#include "libcd/cuda/device_buffer.cuh"
 #include "libcd/grid/cell_size.hpp"
+#include "libcd/grid/pair_index.hpp"
 #include "libcd/grid/radius_sum.hpp"
 #include "ply_mesh.hpp"
 
@@ -347,6 +348,50 @@ void expect_chunked_ccd_equals_cpu(const Soup& soup, BroadPhaseMethod method, co
   EXPECT_EQ(vf_chunked, vf);
   EXPECT_EQ(ee_chunked, ee);
   expect_same_counts(cpu, chunked->stats());
+}
+
+/// A device array's first n items appended to `to`.
+template <class T>
+void append_from_device(const T* from, std::size_t n, std::vector<T>& to) {
+  const std::size_t first = to.size();
+  to.resize(first + n);
+  if (n > 0) ASSERT_EQ(cudaMemcpy(to.data() + first, from, n * sizeof(T), cudaMemcpyDeviceToHost), cudaSuccess);
+}
+
+// Unsorted candidates (detect_ccd_on_device with `sorted` false, as the CUDA
+// back end asks for them, and sorts only the hits): every candidate of the
+// sorted ones, each once, in the order of their triangle pairs, not sorted;
+// in one part of the feature stage and in many.
+TEST_F(CudaBroadPhaseTest, UnsortedCandidatesAreTheSortedOnesInTheOrderOfTheirPairs) {
+  const Soup soup = random_soup(21, 4000, true);
+  DeviceBuffer<Vec3> x_t0(0), x_t1(0);
+  x_t0.upload(soup.x_t0);
+  x_t1.upload(soup.x_t1);
+  for (const std::size_t candidate_room : {std::size_t{0}, std::size_t{500}}) {
+    const auto gpu = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+    gpu->build(soup.scene, {});
+    gpu->set_chunk_rooms(0, candidate_room);
+    std::vector<VertexFaceCandidate> vf, vf_unsorted;
+    std::vector<EdgeEdgeCandidate> ee, ee_unsorted;
+    gpu->detect_ccd(soup.x_t0, soup.x_t1, vf, ee);
+    ASSERT_GT(vf.size(), 100u);
+    ASSERT_GT(ee.size(), 100u);
+    gpu->detect_ccd_on_device(
+        x_t0.data(), x_t1.data(), nullptr,
+        [&](const DeviceCandidates& part) {
+          append_from_device(part.vf, part.vf_count, vf_unsorted);
+          append_from_device(part.ee, part.ee_count, ee_unsorted);
+        },
+        /*sorted=*/false);
+    const std::string where = "candidate room " + std::to_string(candidate_room);
+    if (candidate_room > 0) EXPECT_GT(gpu->last_feature_parts(), 10u) << where;
+    EXPECT_FALSE(std::is_sorted(vf_unsorted.begin(), vf_unsorted.end())) << where;
+    EXPECT_FALSE(std::is_sorted(ee_unsorted.begin(), ee_unsorted.end())) << where;
+    std::sort(vf_unsorted.begin(), vf_unsorted.end());
+    std::sort(ee_unsorted.begin(), ee_unsorted.end());
+    EXPECT_EQ(vf_unsorted, vf) << where;
+    EXPECT_EQ(ee_unsorted, ee) << where;
+  }
 }
 
 TEST_F(CudaBroadPhaseTest, MatchesCpuWhereCellsHoldManyTiles) {

@@ -25,6 +25,7 @@
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/triangle_triangle.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
+#include "libcd/pipeline/event.hpp"
 #include "libcd/pipeline/event_fields.hpp"
 #include "tests/common/event_compare.hpp"
 
@@ -236,6 +237,18 @@ TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithThickness) {
   expect_same_as_cpu(batch.ee_queries, ee_hits, settings, "thickness 1e-3");
 }
 
+/// The event the host builds of a candidate of the batch with this answer.
+Event host_event(const QueryBatch& batch, const VertexFaceCandidate& c, const CcdResult& result) {
+  return vertex_face_fields(c.vertex, c.face, batch.x_t0[c.vertex], batch.x_t1[c.vertex], result);
+}
+Event host_event(const QueryBatch& batch, const EdgeEdgeCandidate& c, const CcdResult& result) {
+  const Edge& a = batch.edges[c.edge_a];
+  const Edge& b = batch.edges[c.edge_b];
+  const Vec3 ends_t0[4] = {batch.x_t0[a[0]], batch.x_t0[a[1]], batch.x_t0[b[0]], batch.x_t0[b[1]]};
+  const Vec3 ends_t1[4] = {batch.x_t1[a[0]], batch.x_t1[a[1]], batch.x_t1[b[0]], batch.x_t1[b[1]]};
+  return edge_edge_fields(c.edge_a, c.edge_b, ends_t0, ends_t1, result);
+}
+
 TEST_F(NarrowPhaseCcdQueries, EventsBuiltOnTheDeviceAreTheHostsOfTheSameHits) {
   const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
   const QueryBatch batch = make_batch(queries);
@@ -258,19 +271,8 @@ TEST_F(NarrowPhaseCcdQueries, EventsBuiltOnTheDeviceAreTheHostsOfTheSameHits) {
     ASSERT_GT(ee_hits.size(), 0u);
     ASSERT_EQ(events.size(), vf_hits.size() + ee_hits.size());
     std::vector<Event> host;
-    for (std::size_t k = 0; k < vf_hits.size(); ++k) {
-      const VertexFaceCandidate c = batch.vf[vf_hits[k].candidate];
-      host.push_back(
-          vertex_face_fields(c.vertex, c.face, batch.x_t0[c.vertex], batch.x_t1[c.vertex], vf_hits[k].result));
-    }
-    for (std::size_t k = 0; k < ee_hits.size(); ++k) {
-      const EdgeEdgeCandidate c = batch.ee[ee_hits[k].candidate];
-      const Edge& a = batch.edges[c.edge_a];
-      const Edge& b = batch.edges[c.edge_b];
-      const Vec3 ends_t0[4] = {batch.x_t0[a[0]], batch.x_t0[a[1]], batch.x_t0[b[0]], batch.x_t0[b[1]]};
-      const Vec3 ends_t1[4] = {batch.x_t1[a[0]], batch.x_t1[a[1]], batch.x_t1[b[0]], batch.x_t1[b[1]]};
-      host.push_back(edge_edge_fields(c.edge_a, c.edge_b, ends_t0, ends_t1, ee_hits[k].result));
-    }
+    for (const CcdHit& hit : vf_hits) host.push_back(host_event(batch, batch.vf[hit.candidate], hit.result));
+    for (const CcdHit& hit : ee_hits) host.push_back(host_event(batch, batch.ee[hit.candidate], hit.result));
     test::expect_same_events(host, events, std::string(passes == CcdPasses::kScreenOnly ? "screen only" : "single pass") +
                                                ", rounds of " + std::to_string(chunk));
     const auto uncertain = std::count_if(host.begin(), host.end(),
@@ -282,6 +284,77 @@ TEST_F(NarrowPhaseCcdQueries, EventsBuiltOnTheDeviceAreTheHostsOfTheSameHits) {
                                          device.vf.data(), batch.vf.size(), settings, CcdPasses::kScreenThenSearch,
                                          events),
                std::invalid_argument);
+}
+
+/// The bits a radix sort needs for ids up to max_id (at least 1).
+int id_bits(std::size_t max_id) {
+  int bits = 1;
+  while (bits < 64 && (max_id >> bits) != 0) ++bits;
+  return bits;
+}
+
+/// The hits' events of candidates[k] as the host builds them, round by round
+/// (`round` candidates each) and each round's sorted in event order.
+template <class Candidate>
+std::vector<Event> events_in_round_order(const QueryBatch& batch, const std::vector<Candidate>& candidates,
+                                         const std::vector<CcdHit>& hits, std::size_t round) {
+  std::vector<Event> events;
+  std::size_t begin = 0;
+  for (std::size_t k = 0; k <= hits.size(); ++k) {
+    if (k == hits.size() || hits[k].candidate / round != hits[begin].candidate / round) {
+      std::sort(events.begin() + static_cast<std::ptrdiff_t>(begin), events.end(), event_order);
+      begin = k;
+    }
+    if (k < hits.size()) events.push_back(host_event(batch, candidates[hits[k].candidate], hits[k].result));
+  }
+  return events;
+}
+
+// set_event_order: each round's events come in event order, whatever the
+// candidates' order (the broad phase's unsorted ones): the candidates
+// shuffled, in one round and in rounds of 97, against the host's events of
+// the same hits sorted round by round; without it, in candidate order.
+TEST_F(NarrowPhaseCcdQueries, EventOrderSortsEachRoundsEventsWhateverTheCandidatesOrder) {
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  QueryBatch batch = make_batch(queries);
+  std::mt19937 rng(14);
+  std::shuffle(batch.vf.begin(), batch.vf.end(), rng);
+  std::shuffle(batch.ee.begin(), batch.ee.end(), rng);
+  const DeviceBatch device(batch);
+  const CcdSettings settings;
+  const int face_bits = id_bits(batch.triangles.size() - 1), edge_bits = id_bits(batch.edges.size() - 1);
+  for (const std::size_t round : {batch.vf.size() + batch.ee.size(), std::size_t{97}}) {
+    CudaNarrowPhase narrow(nullptr);
+    narrow.set_chunk_size(round);
+    std::vector<CcdHit> vf_hits, ee_hits;
+    device.find_hits(narrow, settings, CcdPasses::kScreenOnly, vf_hits, ee_hits);
+    ASSERT_GT(vf_hits.size(), 1u);
+    ASSERT_GT(ee_hits.size(), 1u);
+    std::vector<Event> vf_events, ee_events, vf_plain, ee_plain;
+    narrow.set_event_order(face_bits, id_bits(batch.x_t0.size() - 1) + face_bits);
+    narrow.vertex_face_events(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
+                              batch.vf.size(), settings, CcdPasses::kScreenOnly, vf_events);
+    narrow.set_event_order(edge_bits, 2 * edge_bits);
+    narrow.edge_edge_events(device.x_t0.data(), device.x_t1.data(), device.edges.data(), device.ee.data(),
+                            batch.ee.size(), settings, CcdPasses::kScreenOnly, ee_events);
+    const std::string where = "rounds of " + std::to_string(round);
+    test::expect_same_events(events_in_round_order(batch, batch.vf, vf_hits, round), vf_events,
+                             where + ", vertex-face");
+    test::expect_same_events(events_in_round_order(batch, batch.ee, ee_hits, round), ee_events, where + ", edge-edge");
+    EXPECT_FALSE(std::is_sorted(vf_hits.begin(), vf_hits.end(),
+                                [&](const CcdHit& x, const CcdHit& y) {
+                                  return event_order(host_event(batch, batch.vf[x.candidate], x.result),
+                                                     host_event(batch, batch.vf[y.candidate], y.result));
+                                }))
+        << where << ": the shuffled candidates' hits must come out of event order";
+    narrow.set_event_order(0, 0);
+    narrow.vertex_face_events(device.x_t0.data(), device.x_t1.data(), device.triangles.data(), device.vf.data(),
+                              batch.vf.size(), settings, CcdPasses::kScreenOnly, vf_plain);
+    std::vector<Event> in_candidate_order;
+    for (const CcdHit& hit : vf_hits)
+      in_candidate_order.push_back(host_event(batch, batch.vf[hit.candidate], hit.result));
+    test::expect_same_events(in_candidate_order, vf_plain, where + ", vertex-face without event order");
+  }
 }
 
 // Deferred events: a call leaves its last round's events staged until
