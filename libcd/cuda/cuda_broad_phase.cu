@@ -218,7 +218,9 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
     if (with_features) {
       // 40% for the tests' keys and the pairs' feature counts, 60% for the candidates.
       key_room = room / 10 * 4 / (kPairChunkBytesPerTest + kFeatureBytesPerPair);
-      candidate_room_ = room / 10 * 6 / (2 * kFeatureBytesPerCandidate);  // vf and ee grow apart
+      const std::size_t candidate_bytes =
+          sorted_candidates_ ? kFeatureBytesPerCandidate : kUnsortedFeatureBytesPerCandidate;
+      candidate_room_ = room / 10 * 6 / (2 * candidate_bytes);  // vf and ee grow apart
     } else {
       key_room = room / kPairChunkBytesPerTest;
     }
@@ -258,6 +260,7 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
   if (scene_ == nullptr) throw UsageError("broad phase: build() must be called before detection");
   use_stream(stream);
   upload_representatives();
+  sorted_candidates_ = sorted;  // the feature stage's room per candidate
   DeviceMemoryTracker::instance().reset_peak();
   const auto start = std::chrono::steady_clock::now();
   double visit_seconds = 0;

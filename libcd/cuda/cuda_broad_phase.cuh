@@ -149,6 +149,7 @@ class CudaBroadPhase final : public BroadPhase {
   std::size_t budget_ = 0, chunk_room_cap_ = ~std::size_t{0};
   std::size_t fixed_key_room_ = 0, fixed_candidate_room_ = 0;
   std::size_t candidate_room_ = ~std::size_t{0};
+  bool sorted_candidates_ = true;  ///< of the CCD detection running (detect_ccd_on_device)
   std::size_t last_chunks_ = 0, last_parts_ = 0;
 };
 

@@ -67,9 +67,10 @@ struct DeviceFeatures {
 
 /// Device bytes of the feature stage per triangle pair (the tally and the
 /// kept bits) and per candidate (key, the sort's second half, the
-/// candidate).
+/// candidate; unsorted, the key and the candidate).
 constexpr std::size_t kFeatureBytesPerPair = sizeof(FeatureTally) + sizeof(std::uint16_t);
 constexpr std::size_t kFeatureBytesPerCandidate = 3 * sizeof(std::uint64_t);
+constexpr std::size_t kUnsortedFeatureBytesPerCandidate = 2 * sizeof(std::uint64_t);
 /// The most candidates one triangle pair yields (6 vertex-face, 9 edge-edge).
 constexpr std::size_t kMostCandidatesPerPair = 15;
 
