@@ -493,8 +493,8 @@ const T* CudaNarrowPhase::stage_selected(const T* items, std::size_t count) {
 
 template <class Candidate>
 void CudaNarrowPhase::order_hits(const Candidate* candidates, std::size_t hits) {
-  // keys, the sorted keys, the sorted indices: 20 bytes a hit, within the
-  // room of its event (kCcdEventBytesPerCandidate).
+  // The keys, their second half and the indices' second half: 20 bytes a
+  // hit, within the room of its event (kCcdEventBytesPerCandidate).
   static_assert(2 * sizeof(std::uint64_t) + sizeof(std::uint32_t) <= kCcdEventBytesPerCandidate,
                 "a round's sort keys fit in the room its events take");
   std::uint64_t* keys = gathered_as<std::uint64_t>(2 * hits + (hits + 1) / 2, "the hits' sort keys");
@@ -503,9 +503,14 @@ void CudaNarrowPhase::order_hits(const Candidate* candidates, std::size_t hits) 
   event_order_keys_kernel<<<blocks_for(hits), kBlockSize, 0, stream_>>>(candidates, selected_.data(), hits,
                                                                         order_low_bits_, keys);
   SNAG_CUDA_CHECK_LAUNCH();
-  detail::radix_sort_pairs(keys, sorted_keys, selected_.data(), sorted, hits, order_end_bit_, temp_, stream_);
-  SNAG_CUDA_CHECK(
-      cudaMemcpyAsync(selected_.data(), sorted, hits * sizeof(std::uint32_t), cudaMemcpyDeviceToDevice, stream_));
+  // Double buffers: the sort's scratch holds no copy of the hits.
+  cub::DoubleBuffer<std::uint64_t> key_halves(keys, sorted_keys);
+  cub::DoubleBuffer<std::uint32_t> hit_halves(selected_.data(), sorted);
+  detail::radix_sort_pairs(key_halves, hit_halves, hits, order_end_bit_, temp_, stream_);
+  if (hit_halves.Current() != selected_.data()) {
+    SNAG_CUDA_CHECK(cudaMemcpyAsync(selected_.data(), hit_halves.Current(), hits * sizeof(std::uint32_t),
+                                    cudaMemcpyDeviceToDevice, stream_));
+  }
 }
 
 template <class Launch>
