@@ -117,8 +117,9 @@ void CudaBroadPhase::upload_representatives() {
 }
 
 void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
-                                              bool with_features,
+                                              std::size_t feature_bytes_per_candidate,
                                               const std::function<void(const TrianglePair*, std::size_t)>& visit) {
+  const bool with_features = feature_bytes_per_candidate > 0;
   const Scene& scene = *scene_;
   CudaBroadPhaseBuffers& b = *buffers_;
   stats_ = BroadPhaseStats{};
@@ -218,9 +219,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
     if (with_features) {
       // 40% for the tests' keys and the pairs' feature counts, 60% for the candidates.
       key_room = room / 10 * 4 / (kPairChunkBytesPerTest + kFeatureBytesPerPair);
-      const std::size_t candidate_bytes =
-          sorted_candidates_ ? kFeatureBytesPerCandidate : kUnsortedFeatureBytesPerCandidate;
-      candidate_room_ = room / 10 * 6 / (2 * candidate_bytes);  // vf and ee grow apart
+      candidate_room_ = room / 10 * 6 / (2 * feature_bytes_per_candidate);  // vf and ee grow apart
     } else {
       key_room = room / kPairChunkBytesPerTest;
     }
@@ -260,7 +259,6 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
   if (scene_ == nullptr) throw UsageError("broad phase: build() must be called before detection");
   use_stream(stream);
   upload_representatives();
-  sorted_candidates_ = sorted;  // the feature stage's room per candidate
   DeviceMemoryTracker::instance().reset_peak();
   const auto start = std::chrono::steady_clock::now();
   double visit_seconds = 0;
@@ -268,7 +266,8 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
   FeatureCounts counts;
   double feature_seconds = 0;
   last_parts_ = 0;
-  triangle_pairs_on_device(d_x_t0, d_x_t1, stream, true, [&](const TrianglePair* pairs, std::size_t pair_count) {
+  const std::size_t bytes = sorted ? kFeatureBytesPerCandidate : kUnsortedFeatureBytesPerCandidate;  // a candidate's
+  triangle_pairs_on_device(d_x_t0, d_x_t1, stream, bytes, [&](const TrianglePair* pairs, std::size_t pair_count) {
     DeviceMemoryTracker::set_stage("broad phase: features");
     CudaEvent features_start, features_done;
     features_start.record(stream);
@@ -307,7 +306,7 @@ void CudaBroadPhase::detect_static_on_device(const Vec3* d_x, cudaStream_t strea
   const auto start = std::chrono::steady_clock::now();
   double visit_seconds = 0;
   last_parts_ = 0;
-  triangle_pairs_on_device(d_x, d_x, stream, false, [&](const TrianglePair* pairs, std::size_t pair_count) {
+  triangle_pairs_on_device(d_x, d_x, stream, 0, [&](const TrianglePair* pairs, std::size_t pair_count) {
     const auto visit_start = std::chrono::steady_clock::now();
     DeviceCandidates chunk;
     chunk.pairs = pairs;

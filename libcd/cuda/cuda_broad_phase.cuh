@@ -125,9 +125,12 @@ class CudaBroadPhase final : public BroadPhase {
 
  private:
   void use_stream(cudaStream_t stream);
-  /// Bounds, subdivision, registration, then the pair tests chunk by chunk;
-  /// with_features: the chunk's room is shared with the feature stage.
-  void triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, bool with_features,
+  /// Bounds, subdivision, registration, then the pair tests chunk by chunk.
+  /// With feature_bytes_per_candidate > 0 (the feature stage's device bytes
+  /// per candidate: sorted or not), the chunk's room is shared with the
+  /// feature stage; 0: no feature stage (static detection).
+  void triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
+                                std::size_t feature_bytes_per_candidate,
                                 const std::function<void(const TrianglePair*, std::size_t)>& visit);
   /// Bytes of the buffers whose size the chunks bound.
   std::size_t chunk_bytes() const;
@@ -149,7 +152,6 @@ class CudaBroadPhase final : public BroadPhase {
   std::size_t budget_ = 0, chunk_room_cap_ = ~std::size_t{0};
   std::size_t fixed_key_room_ = 0, fixed_candidate_room_ = 0;
   std::size_t candidate_room_ = ~std::size_t{0};
-  bool sorted_candidates_ = true;  ///< of the CCD detection running (detect_ccd_on_device)
   std::size_t last_chunks_ = 0, last_parts_ = 0;
 };
 
