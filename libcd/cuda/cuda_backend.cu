@@ -181,7 +181,7 @@ struct Detection {
 struct CcdFound {
   int slot_t0 = -1, slot_t1 = -1;
   std::vector<Event> events;  ///< detected ahead: the events of the chunks before the last
-  std::size_t vf_count = 0, ee_count = 0;
+  std::size_t vf_count = 0, ee_count = 0;  ///< the queries: every candidate, those the feature stage screened out too
   /// Chunks of the broad phase's candidates, and the most rounds one of the
   /// two narrow phases ran in (each round's events are in event order, and
   /// vertex-face events come before edge-edge ones): the step's events are in
@@ -608,8 +608,6 @@ class CudaBackend final : public Backend {
                                  CcdPasses::kScreenOnly, events, flush_deferred);
       edge_narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
                                     CcdPasses::kScreenOnly, events, flush_deferred);
-      found.vf_count += chunk.vf_count;
-      found.ee_count += chunk.ee_count;
       ++found.chunks;
       found.narrow_seconds += seconds_since(narrow_start);
     };
@@ -624,14 +622,19 @@ class CudaBackend final : public Backend {
       }
       narrow_.reset_timings();
       edge_narrow_.reset_timings();
-      found.vf_count = found.ee_count = found.chunks = 0;
+      found.chunks = 0;
       found.narrow_seconds = 0;
-      ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk, /*sorted=*/false);
+      ccd_broad_->detect_ccd_on_device(d_x_t0, d_x_t1, compute_.get(), visit_chunk, /*sorted=*/false,
+                                       /*screen=*/&settings_.ccd);
     });
     claim();  // a step without candidates
     event_copies_.wait();
     ccd_events_last_ = events.size() - first;
     found.broad = ccd_broad_->stats();
+    // The queries: every candidate of the feature stage, with those its
+    // screen decided (the narrow phases saw the rest).
+    found.vf_count = found.broad.vf_after_culling;
+    found.ee_count = found.broad.ee_after_culling;
     double device_ms = 0;
     for (const CudaNarrowPhase* part : {&narrow_, &edge_narrow_}) {
       const NarrowPhaseTimings& device = part->timings();

@@ -117,9 +117,9 @@ void CudaBroadPhase::upload_representatives() {
 }
 
 void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
-                                              std::size_t feature_bytes_per_candidate,
+                                              FeatureRoom features,
                                               const std::function<void(const TrianglePair*, std::size_t)>& visit) {
-  const bool with_features = feature_bytes_per_candidate > 0;
+  const bool with_features = features.bytes_per_candidate > 0;
   const Scene& scene = *scene_;
   CudaBroadPhaseBuffers& b = *buffers_;
   stats_ = BroadPhaseStats{};
@@ -217,9 +217,9 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
                        std::to_string(budget_) + " bytes; raise the limit (snag-scan --device-memory)");
     const std::size_t room = std::min(budget_ - fixed, chunk_room_cap_);
     if (with_features) {
-      // 40% for the tests' keys and the pairs' feature counts, 60% for the candidates.
-      key_room = room / 10 * 4 / (kPairChunkBytesPerTest + kFeatureBytesPerPair);
-      candidate_room_ = room / 10 * 6 / (2 * feature_bytes_per_candidate);  // vf and ee grow apart
+      key_room = room / 10 * features.key_tenths / (kPairChunkBytesPerTest + kFeatureBytesPerPair);
+      candidate_room_ =
+          room / 10 * (10 - features.key_tenths) / (2 * features.bytes_per_candidate);  // vf and ee grow apart
     } else {
       key_room = room / kPairChunkBytesPerTest;
     }
@@ -255,7 +255,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
 }
 
 void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
-                                          const CandidateVisitor& visit, bool sorted) {
+                                          const CandidateVisitor& visit, bool sorted, const CcdSettings* screen) {
   if (scene_ == nullptr) throw UsageError("broad phase: build() must be called before detection");
   use_stream(stream);
   upload_representatives();
@@ -266,8 +266,14 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
   FeatureCounts counts;
   double feature_seconds = 0;
   last_parts_ = 0;
-  const std::size_t bytes = sorted ? kFeatureBytesPerCandidate : kUnsortedFeatureBytesPerCandidate;  // a candidate's
-  triangle_pairs_on_device(d_x_t0, d_x_t1, stream, bytes, [&](const TrianglePair* pairs, std::size_t pair_count) {
+  // A chunk's room: 40% for the tests' keys and the pairs' tallies, 60% for
+  // the candidates, which outnumber the kept tests (cloth_ball ×16: 1.6 a
+  // test); screened, 80% for the keys (×16: 0.07 candidates a test), so that
+  // there are fewer chunks.
+  const FeatureRoom room{sorted ? kFeatureBytesPerCandidate : kUnsortedFeatureBytesPerCandidate,
+                         screen != nullptr ? std::size_t{8} : std::size_t{4}};
+  const FeatureScreen feature_screen{d_x_t0, d_x_t1, screen != nullptr ? *screen : CcdSettings{}};
+  triangle_pairs_on_device(d_x_t0, d_x_t1, stream, room, [&](const TrianglePair* pairs, std::size_t pair_count) {
     DeviceMemoryTracker::set_stage("broad phase: features");
     CudaEvent features_start, features_done;
     features_start.record(stream);
@@ -285,7 +291,7 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
           DeviceMemoryTracker::set_stage("broad phase: features");
           features_start.record(stream);
         },
-        sorted);
+        sorted, screen != nullptr ? &feature_screen : nullptr);
   });
   DeviceMemoryTracker::set_stage("other");
   stats_.vf_before_culling = counts.vf_before;
@@ -306,7 +312,7 @@ void CudaBroadPhase::detect_static_on_device(const Vec3* d_x, cudaStream_t strea
   const auto start = std::chrono::steady_clock::now();
   double visit_seconds = 0;
   last_parts_ = 0;
-  triangle_pairs_on_device(d_x, d_x, stream, 0, [&](const TrianglePair* pairs, std::size_t pair_count) {
+  triangle_pairs_on_device(d_x, d_x, stream, FeatureRoom{}, [&](const TrianglePair* pairs, std::size_t pair_count) {
     const auto visit_start = std::chrono::steady_clock::now();
     DeviceCandidates chunk;
     chunk.pairs = pairs;

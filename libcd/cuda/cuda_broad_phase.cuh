@@ -36,6 +36,7 @@
 
 #include "libcd/broad_phase/broad_phase.hpp"
 #include "libcd/cuda/cuda_broad_phase.hpp"
+#include "libcd/narrow_phase/ccd_result.hpp"
 
 namespace snag {
 
@@ -89,13 +90,15 @@ class CudaBroadPhase final : public BroadPhase {
   /// `visit` chunk by chunk (DeviceCandidates::vf and ee; one chunk when the
   /// budget allows): every candidate once, each chunk's sorted, or with
   /// `sorted` false in the order of their triangle pairs
-  /// (representative_feature_pairs_on_device).
+  /// (representative_feature_pairs_on_device). With `screen`, only the
+  /// candidates the CCD early exits with those settings leave undecided
+  /// (FeatureScreen); stats() are as without it.
   /// @param d_x_t0, d_x_t1  #V device positions at the start and end of the step
   /// @param stream          stream to run on (visit may queue work on it)
   /// Throws UsageError when build() was not called or the budget is too
   /// small for one chunk, CudaError.
   void detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, const CandidateVisitor& visit,
-                            bool sorted = true);
+                            bool sorted = true, const CcdSettings* screen = nullptr);
   /// Static triangle pairs for #V device positions d_x (DeviceCandidates::pairs
   /// only), chunk by chunk in ascending order.
   void detect_static_on_device(const Vec3* d_x, cudaStream_t stream, const CandidateVisitor& visit);
@@ -125,12 +128,17 @@ class CudaBroadPhase final : public BroadPhase {
 
  private:
   void use_stream(cudaStream_t stream);
-  /// Bounds, subdivision, registration, then the pair tests chunk by chunk.
-  /// With feature_bytes_per_candidate > 0 (the feature stage's device bytes
-  /// per candidate: sorted or not), the chunk's room is shared with the
-  /// feature stage; 0: no feature stage (static detection).
-  void triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
-                                std::size_t feature_bytes_per_candidate,
+  /// How a chunk's room is shared with the feature stage: its device bytes
+  /// per candidate (sorted or not; 0: no feature stage, the static
+  /// detection), and the tenths of the room for the tests' keys and the
+  /// pairs' tallies, the rest for the candidates.
+  struct FeatureRoom {
+    std::size_t bytes_per_candidate = 0;
+    std::size_t key_tenths = 10;
+  };
+  /// Bounds, subdivision, registration, then the pair tests chunk by chunk,
+  /// each chunk's room shared with the feature stage as `features` says.
+  void triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, FeatureRoom features,
                                 const std::function<void(const TrianglePair*, std::size_t)>& visit);
   /// Bytes of the buffers whose size the chunks bound.
   std::size_t chunk_bytes() const;

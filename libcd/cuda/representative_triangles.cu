@@ -14,6 +14,8 @@
 
 #include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
+#include "libcd/narrow_phase/edge_edge_ccd.hpp"
+#include "libcd/narrow_phase/vertex_face_ccd.hpp"
 
 namespace snag {
 namespace {
@@ -41,6 +43,37 @@ struct FeatureInputs {
   const FloatBox* vertex_boxes;
   const TrianglePair* pairs;
 };
+
+/// Whether the screen's early exits decide feature pair (x, y) kNo: vertex x
+/// against face y, or edges x and y, with their points in the order the
+/// narrow phase reads its candidate's (the smaller edge first), so that
+/// the decision is the one it would take.
+__device__ bool screened_out(const FeatureInputs& in, const FeatureScreen& screen, Index x, Index y, bool edges) {
+  Index ids[4];
+  if (edges) {
+    const Edge a = in.edges[x < y ? x : y], b = in.edges[x < y ? y : x];
+    ids[0] = a[0];
+    ids[1] = a[1];
+    ids[2] = b[0];
+    ids[3] = b[1];
+  } else {
+    const Triangle face = in.tris[y];
+    ids[0] = x;
+    ids[1] = face[0];
+    ids[2] = face[1];
+    ids[3] = face[2];
+  }
+  Vec3 p[8];
+  for (int k = 0; k < 4; ++k) {
+    p[k] = screen.x_t0[ids[k]];
+    p[4 + k] = screen.x_t1[ids[k]];
+  }
+  CcdResult result;
+  const bool decided =
+      edges ? edge_edge_early_exit(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], screen.settings, &result)
+            : vertex_face_early_exit(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], screen.settings, &result);
+  return decided && result.answer == CcdAnswer::kNo;
+}
 
 /// A feature pair whose float boxes meet, waiting for its DOP test: a vertex
 /// (or edge) x and a triangle (or edge) y, the lane whose triangle pair it
@@ -160,6 +193,82 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
   detail::warp_count(ee_before, &counters[1]);
 }
 
+/// The screen (FeatureScreen) of the feature pairs count_kernel kept of
+/// triangle pair p < n: the early exits run on each, and those they decide
+/// kNo leave kept[p], tally[p] is counted again, and counters[2]
+/// (vertex-face) and counters[3] (edge-edge) count them. A warp screens its
+/// 32 pairs' vertex-face pairs, then their edge-edge pairs, 32 at a time,
+/// one a lane: a lane that looped over its own pair's bits held the warp
+/// for its neighbours' longest list, through both kinds' code (×16: about
+/// four times as long as one a lane). A kernel of its own: the early exits
+/// need more registers than count_kernel's bound leaves (inside it they
+/// spilled some 19 kB); four blocks a multiprocessor, as the narrow phase's
+/// early-exit kernel.
+constexpr unsigned kScreenBlock = 128;
+__global__ void __launch_bounds__(kScreenBlock, 4)
+    screen_kernel(FeatureInputs in, FeatureScreen screen, std::size_t n, FeatureTally* tally, std::uint16_t* kept,
+                  unsigned long long* counters) {
+  constexpr unsigned kFullWarp = 0xffffffffu;
+  __shared__ unsigned warp_cleared[kScreenBlock / 32][32];  // the bits each lane's pair loses
+  unsigned* const cleared = warp_cleared[threadIdx.x / 32];
+  const unsigned lane = threadIdx.x & 31u;
+  const std::uint64_t p = thread_item();
+  const unsigned bits = p < n ? kept[p] : 0u;
+  if (__ballot_sync(kFullWarp, bits != 0) == 0) return;  // the whole warp
+  Index side[2] = {0, 0};
+  if (bits != 0) {
+    side[0] = in.pairs[p].a;
+    side[1] = in.pairs[p].b;
+  }
+  cleared[lane] = 0;
+  __syncwarp();
+  unsigned screened[2] = {0, 0};  // vertex-face, edge-edge
+  for (int edges = 0; edges < 2; ++edges) {
+    // The warp's items of this kind, numbered lane by lane: lane l's are
+    // [first, first + count).
+    const unsigned mine = edges ? bits >> 6 : bits & 63u, count = __popc(mine);
+    unsigned end = count;
+    for (unsigned d = 1; d < 32; d <<= 1) {
+      const unsigned below = __shfl_up_sync(kFullWarp, end, d);
+      if (lane >= d) end += below;
+    }
+    const unsigned first = end - count, total = __shfl_sync(kFullWarp, end, 31);
+    for (unsigned base = 0; base < total; base += 32) {
+      const unsigned k = base + lane;
+      // The lane whose items hold k: the last whose first is at most k.
+      unsigned owner = 0;
+      for (unsigned step = 16; step >= 1; step >>= 1) {
+        const unsigned owner_first = __shfl_sync(kFullWarp, first, owner + step);
+        if (owner_first <= k) owner += step;
+      }
+      const unsigned owner_first = __shfl_sync(kFullWarp, first, owner);
+      const unsigned owner_bits = __shfl_sync(kFullWarp, mine, owner);
+      const Index a = __shfl_sync(kFullWarp, side[0], owner), b = __shfl_sync(kFullWarp, side[1], owner);
+      if (k >= total) continue;
+      const unsigned bit = __fns(owner_bits, 0, static_cast<int>(k - owner_first) + 1);
+      bool out = false;
+      if (!edges) {  // vertex i of side s against the other side's face
+        const unsigned s = bit / 3, i = bit % 3;
+        out = screened_out(in, screen, in.tris[s == 0 ? a : b][i], s == 0 ? b : a, false);
+      } else {  // edge i of side 0 against edge j of side 1
+        out = screened_out(in, screen, in.edge_ids[a][bit / 3], in.edge_ids[b][bit % 3], true);
+      }
+      if (out) {
+        atomicOr(&cleared[owner], 1u << (edges ? 6 + bit : bit));
+        ++screened[edges];
+      }
+    }
+  }
+  __syncwarp();
+  if (bits != 0) {
+    const unsigned left = bits & ~cleared[lane];
+    kept[p] = static_cast<std::uint16_t>(left);
+    tally[p] = {static_cast<std::uint64_t>(__popc(left & 63u)), static_cast<std::uint64_t>(__popc(left >> 6))};
+  }
+  detail::warp_count(screened[0], &counters[2]);
+  detail::warp_count(screened[1], &counters[3]);
+}
+
 /// The low_bits of the feature keys (pack_key): a face's id below the vertex
 /// in a vertex-face key, the larger edge below the smaller in an edge-edge key.
 struct FeatureKeyBits {
@@ -253,7 +362,7 @@ void representative_feature_pairs_on_device(
     std::size_t edge_count, const TrianglePair* pairs, std::size_t n, std::size_t candidate_room, DeviceFeatures& f,
     cudaStream_t stream, FeatureCounts& counts,
     const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit,
-    bool sorted) {
+    bool sorted, const FeatureScreen* screen) {
   if (n == 0) return;
   if (candidate_room <= kMostCandidatesPerPair)
     throw UsageError("the device memory limit is too small for this scene: the feature stage has room for " +
@@ -271,19 +380,24 @@ void representative_feature_pairs_on_device(
                          pairs};
   f.tally.resize(n + 1);
   f.kept.resize(n);
-  f.counters.resize(2);
+  f.counters.resize(4);
   f.counters.fill_zero();
   count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(in, n, f.tally.data(), f.kept.data(),
                                                                      f.counters.data());
   SNAG_CUDA_CHECK_LAUNCH();
+  if (screen != nullptr) {
+    screen_kernel<<<static_cast<unsigned>((n + kScreenBlock - 1) / kScreenBlock), kScreenBlock, 0, stream>>>(
+        in, *screen, n, f.tally.data(), f.kept.data(), f.counters.data());
+    SNAG_CUDA_CHECK_LAUNCH();
+  }
   exclusive_scan(f.tally.data(), f.tally.data(), n + 1, AddFeatureTallies{}, f.temp, stream);
   FeatureTally total;
-  unsigned long long before[2] = {0, 0};
-  ReadBack(stream).add(&total, f.tally.data() + n).add(before, f.counters.data(), 2).wait();
-  counts.vf_before += before[0];
-  counts.ee_before += before[1];
-  counts.vf_after += total.vf;
-  counts.ee_after += total.ee;
+  unsigned long long sums[4] = {0, 0, 0, 0};  // before the DOPs, screened out (vertex-face, edge-edge)
+  ReadBack(stream).add(&total, f.tally.data() + n).add(sums, f.counters.data(), 4).wait();
+  counts.vf_before += sums[0];
+  counts.ee_before += sums[1];
+  counts.vf_after += total.vf + sums[2];
+  counts.ee_after += total.ee + sums[3];
 
   // Parts of consecutive pairs: a part starts where the candidates before it
   // reach a multiple of step, so it holds fewer than step + 15 <= room. One

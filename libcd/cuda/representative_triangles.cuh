@@ -3,7 +3,9 @@
 // vertex-face and edge-edge pairs of the features its triangles represent,
 // culled by the swept 18-DOPs of vertex against face and edge against edge.
 // One thread per triangle pair counts, a prefix scan places, a second pass
-// writes; a radix sort orders the outputs as the CPU's sort does.
+// writes; a radix sort orders the outputs as the CPU's sort does. For the
+// CUDA back end the narrow phase's CCD early exits run between the count and
+// the scan (FeatureScreen), so that only what they leave is written.
 #pragma once
 
 #include <cuda_runtime_api.h>
@@ -18,6 +20,7 @@
 #include "libcd/cuda/device_buffer.cuh"
 #include "libcd/cuda/primitive_bounds.cuh"
 #include "libcd/culling/representative_triangles.hpp"
+#include "libcd/narrow_phase/ccd_result.hpp"
 
 namespace snag {
 
@@ -74,6 +77,17 @@ constexpr std::size_t kUnsortedFeatureBytesPerCandidate = 2 * sizeof(std::uint64
 /// The most candidates one triangle pair yields (6 vertex-face, 9 edge-edge).
 constexpr std::size_t kMostCandidatesPerPair = 15;
 
+/// The CCD early exits (vertex_face_early_exit, edge_edge_early_exit) run on
+/// each feature pair the DOPs keep, for a caller whose narrow phase runs them
+/// first anyway: a pair they decide kNo is no candidate. On the refined
+/// cloths they decide some 96% of the pairs, which are then never written,
+/// read back or handed on, and the narrow phase's rounds hold only the rest.
+struct FeatureScreen {
+  const Vec3* x_t0 = nullptr;  ///< #V device positions at the start and end of the step
+  const Vec3* x_t1 = nullptr;
+  CcdSettings settings;  ///< as the narrow phase takes them
+};
+
 /// Representative feature pairs of pair_count unique device triangle pairs,
 /// handed to `visit` in parts of consecutive pairs, each part's vertex-face
 /// and edge-edge candidates sorted (device arrays valid until visit
@@ -81,7 +95,9 @@ constexpr std::size_t kMostCandidatesPerPair = 15;
 /// instead (a pair's as count_kernel finds them), which saves the sorts of
 /// every candidate for a caller that orders only what it keeps of them. A part holds at most candidate_room candidates
 /// (vertex-face and edge-edge together), so that the stage's memory is bounded by the room; one part when they all fit.
-/// Adds the counts to `counts` (as the CPU's).
+/// Adds the counts to `counts` (as the CPU's). With `screen`, only the
+/// candidates its early exits leave undecided (or out of range) are handed
+/// on; `counts` is as without it.
 /// @param bounds  the step's swept DOPs of triangles, edges and vertices and
 ///                their float boxes (a feature pair whose boxes are apart is
 ///                culled without reading its DOPs)
@@ -91,6 +107,6 @@ void representative_feature_pairs_on_device(
     std::size_t edge_count, const TrianglePair* pairs, std::size_t pair_count, std::size_t candidate_room,
     DeviceFeatures& features, cudaStream_t stream, FeatureCounts& counts,
     const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit,
-    bool sorted = true);
+    bool sorted = true, const FeatureScreen* screen = nullptr);
 
 }  // namespace snag

@@ -28,6 +28,8 @@
 #include "libcd/grid/cell_size.hpp"
 #include "libcd/grid/pair_index.hpp"
 #include "libcd/grid/radius_sum.hpp"
+#include "libcd/narrow_phase/edge_edge_ccd.hpp"
+#include "libcd/narrow_phase/vertex_face_ccd.hpp"
 #include "ply_mesh.hpp"
 
 namespace snag {
@@ -391,6 +393,84 @@ TEST_F(CudaBroadPhaseTest, UnsortedCandidatesAreTheSortedOnesInTheOrderOfTheirPa
     std::sort(ee_unsorted.begin(), ee_unsorted.end());
     EXPECT_EQ(vf_unsorted, vf) << where;
     EXPECT_EQ(ee_unsorted, ee) << where;
+  }
+}
+
+/// Whether the host's CCD early exits decide a candidate kNo (its points in
+/// the narrow phase's order).
+bool early_exits_rule_out(const Scene& scene, const Soup& soup, const VertexFaceCandidate& c,
+                          const CcdSettings& settings) {
+  const Triangle& f = scene.triangles()[c.face];
+  const Vec3 *x0 = soup.x_t0.data(), *x1 = soup.x_t1.data();
+  CcdResult result;
+  return vertex_face_early_exit(x0[c.vertex], x0[f[0]], x0[f[1]], x0[f[2]], x1[c.vertex], x1[f[0]], x1[f[1]], x1[f[2]],
+                                settings, &result) &&
+         result.answer == CcdAnswer::kNo;
+}
+bool early_exits_rule_out(const Scene& scene, const Soup& soup, const EdgeEdgeCandidate& c,
+                          const CcdSettings& settings) {
+  const Edge &a = scene.edges()[c.edge_a], &b = scene.edges()[c.edge_b];
+  const Vec3 *x0 = soup.x_t0.data(), *x1 = soup.x_t1.data();
+  CcdResult result;
+  return edge_edge_early_exit(x0[a[0]], x0[a[1]], x0[b[0]], x0[b[1]], x1[a[0]], x1[a[1]], x1[b[0]], x1[b[1]], settings,
+                              &result) &&
+         result.answer == CcdAnswer::kNo;
+}
+
+// Screened candidates (detect_ccd_on_device with a screen, as the CUDA back
+// end asks for them): exactly the candidates that the host's CCD early exits
+// do not rule out, with the counts of the unscreened detection; at
+// thickness 0 and above it, in one part of the feature stage and in many.
+TEST_F(CudaBroadPhaseTest, ScreenedCandidatesAreThoseTheEarlyExitsLeave) {
+  const Soup soup = random_soup(21, 4000, true);
+  DeviceBuffer<Vec3> x_t0(0), x_t1(0);
+  x_t0.upload(soup.x_t0);
+  x_t1.upload(soup.x_t1);
+  for (const double thickness : {0.0, 0.01}) {
+    CcdSettings settings;
+    settings.thickness = thickness;
+    for (const std::size_t candidate_room : {std::size_t{0}, std::size_t{500}}) {
+      const std::string where =
+          "thickness " + std::to_string(thickness) + ", candidate room " + std::to_string(candidate_room);
+      const auto gpu = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+      BroadPhaseSettings broad;
+      broad.thickness = thickness;
+      gpu->build(soup.scene, broad);
+      gpu->set_chunk_rooms(0, candidate_room);
+      std::vector<VertexFaceCandidate> vf, vf_screened;
+      std::vector<EdgeEdgeCandidate> ee, ee_screened;
+      gpu->detect_ccd(soup.x_t0, soup.x_t1, vf, ee);
+      const BroadPhaseStats unscreened = gpu->stats();
+      gpu->detect_ccd_on_device(
+          x_t0.data(), x_t1.data(), nullptr,
+          [&](const DeviceCandidates& part) {
+            append_from_device(part.vf, part.vf_count, vf_screened);
+            append_from_device(part.ee, part.ee_count, ee_screened);
+          },
+          /*sorted=*/true, &settings);
+      std::sort(vf_screened.begin(), vf_screened.end());
+      std::sort(ee_screened.begin(), ee_screened.end());
+      std::vector<VertexFaceCandidate> vf_left;
+      std::vector<EdgeEdgeCandidate> ee_left;
+      for (const auto& c : vf)
+        if (!early_exits_rule_out(soup.scene, soup, c, settings)) vf_left.push_back(c);
+      for (const auto& c : ee)
+        if (!early_exits_rule_out(soup.scene, soup, c, settings)) ee_left.push_back(c);
+      // The case must have candidates the early exits rule out and candidates they leave.
+      ASSERT_GT(vf_left.size(), 10u) << where;
+      ASSERT_GT(ee_left.size(), 10u) << where;
+      ASSERT_LT(vf_left.size(), vf.size() / 2) << where;
+      ASSERT_LT(ee_left.size(), ee.size() / 2) << where;
+      EXPECT_EQ(vf_screened, vf_left) << where;
+      EXPECT_EQ(ee_screened, ee_left) << where;
+      if (candidate_room > 0) EXPECT_GT(gpu->last_feature_parts(), 10u) << where;
+      const BroadPhaseStats& screened = gpu->stats();
+      EXPECT_EQ(screened.vf_before_culling, unscreened.vf_before_culling) << where;
+      EXPECT_EQ(screened.vf_after_culling, unscreened.vf_after_culling) << where;
+      EXPECT_EQ(screened.ee_before_culling, unscreened.ee_before_culling) << where;
+      EXPECT_EQ(screened.ee_after_culling, unscreened.ee_after_culling) << where;
+      EXPECT_EQ(screened.candidates, unscreened.candidates) << where;
+    }
   }
 }
 
