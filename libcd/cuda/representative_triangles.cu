@@ -4,6 +4,7 @@
 // using representative-triangles", I3D 2008; Klosowski et al. 1998 (k-DOPs).
 #include "libcd/cuda/representative_triangles.cuh"
 
+#include <cub/block/block_scan.cuh>
 #include <cub/device/device_scan.cuh>
 
 #include <algorithm>
@@ -196,56 +197,44 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
 /// The screen (FeatureScreen) of the feature pairs count_kernel kept of
 /// triangle pair p < n: the early exits run on each, and those they decide
 /// kNo leave kept[p], tally[p] is counted again, and counters[2]
-/// (vertex-face) and counters[3] (edge-edge) count them. A warp screens its
-/// 32 pairs' vertex-face pairs, then their edge-edge pairs, 32 at a time,
-/// one a lane: a lane that looped over its own pair's bits held the warp
-/// for its neighbours' longest list, through both kinds' code (×16: about
-/// four times as long as one a lane). A kernel of its own: the early exits
-/// need more registers than count_kernel's bound leaves (inside it they
-/// spilled some 19 kB); four blocks a multiprocessor, as the narrow phase's
+/// (vertex-face) and counters[3] (edge-edge) count them. A block lists its
+/// pairs' vertex-face pairs, then their edge-edge pairs, in shared memory,
+/// and screens them a thread each: a thread that looped over its own pair's
+/// bits held its warp for its neighbours' longest list, through both kinds'
+/// code (×16: about four times as long), and a warp that listed only its own
+/// pairs' ran rounds about two thirds full (×16: 28 ms a step against 20 for
+/// the narrow phase's early-exit kernels before). A kernel of its own: the
+/// early exits need more registers than count_kernel's bound leaves (inside
+/// it they spilled some 19 kB); 128 a thread, as the narrow phase's
 /// early-exit kernel.
-constexpr unsigned kScreenBlock = 128;
-__global__ void __launch_bounds__(kScreenBlock, 4)
+constexpr unsigned kScreenBlock = 256;
+__global__ void __launch_bounds__(kScreenBlock, 2)
     screen_kernel(FeatureInputs in, FeatureScreen screen, std::size_t n, FeatureTally* tally, std::uint16_t* kept,
                   unsigned long long* counters) {
-  constexpr unsigned kFullWarp = 0xffffffffu;
-  __shared__ unsigned warp_cleared[kScreenBlock / 32][32];  // the bits each lane's pair loses
-  unsigned* const cleared = warp_cleared[threadIdx.x / 32];
-  const unsigned lane = threadIdx.x & 31u;
+  using Scan = cub::BlockScan<unsigned, kScreenBlock>;
+  __shared__ typename Scan::TempStorage scan_storage;
+  __shared__ Index sides[kScreenBlock][2];
+  __shared__ unsigned cleared[kScreenBlock];  // the bits each thread's pair loses
+  // A kind's items: the thread's slot in the block above its bit (0..8).
+  __shared__ std::uint16_t items[kScreenBlock * 9];
   const std::uint64_t p = thread_item();
   const unsigned bits = p < n ? kept[p] : 0u;
-  if (__ballot_sync(kFullWarp, bits != 0) == 0) return;  // the whole warp
-  Index side[2] = {0, 0};
+  if (__syncthreads_or(bits != 0) == 0) return;  // the whole block
   if (bits != 0) {
-    side[0] = in.pairs[p].a;
-    side[1] = in.pairs[p].b;
+    sides[threadIdx.x][0] = in.pairs[p].a;
+    sides[threadIdx.x][1] = in.pairs[p].b;
   }
-  cleared[lane] = 0;
-  __syncwarp();
+  cleared[threadIdx.x] = 0;
   unsigned screened[2] = {0, 0};  // vertex-face, edge-edge
   for (int edges = 0; edges < 2; ++edges) {
-    // The warp's items of this kind, numbered lane by lane: lane l's are
-    // [first, first + count).
-    const unsigned mine = edges ? bits >> 6 : bits & 63u, count = __popc(mine);
-    unsigned end = count;
-    for (unsigned d = 1; d < 32; d <<= 1) {
-      const unsigned below = __shfl_up_sync(kFullWarp, end, d);
-      if (lane >= d) end += below;
-    }
-    const unsigned first = end - count, total = __shfl_sync(kFullWarp, end, 31);
-    for (unsigned base = 0; base < total; base += 32) {
-      const unsigned k = base + lane;
-      // The lane whose items hold k: the last whose first is at most k.
-      unsigned owner = 0;
-      for (unsigned step = 16; step >= 1; step >>= 1) {
-        const unsigned owner_first = __shfl_sync(kFullWarp, first, owner + step);
-        if (owner_first <= k) owner += step;
-      }
-      const unsigned owner_first = __shfl_sync(kFullWarp, first, owner);
-      const unsigned owner_bits = __shfl_sync(kFullWarp, mine, owner);
-      const Index a = __shfl_sync(kFullWarp, side[0], owner), b = __shfl_sync(kFullWarp, side[1], owner);
-      if (k >= total) continue;
-      const unsigned bit = __fns(owner_bits, 0, static_cast<int>(k - owner_first) + 1);
+    unsigned mine = edges ? bits >> 6 : bits & 63u, first = 0, total = 0;
+    Scan(scan_storage).ExclusiveSum(static_cast<unsigned>(__popc(mine)), first, total);
+    for (; mine != 0; mine &= mine - 1)
+      items[first++] = static_cast<std::uint16_t>(threadIdx.x << 4 | static_cast<unsigned>(__ffs(mine) - 1));
+    __syncthreads();  // the list is written (and scan_storage free again)
+    for (unsigned k = threadIdx.x; k < total; k += kScreenBlock) {
+      const unsigned slot = items[k] >> 4, bit = items[k] & 15u;
+      const Index a = sides[slot][0], b = sides[slot][1];
       bool out = false;
       if (!edges) {  // vertex i of side s against the other side's face
         const unsigned s = bit / 3, i = bit % 3;
@@ -254,14 +243,14 @@ __global__ void __launch_bounds__(kScreenBlock, 4)
         out = screened_out(in, screen, in.edge_ids[a][bit / 3], in.edge_ids[b][bit % 3], true);
       }
       if (out) {
-        atomicOr(&cleared[owner], 1u << (edges ? 6 + bit : bit));
+        atomicOr(&cleared[slot], 1u << (edges ? 6 + bit : bit));
         ++screened[edges];
       }
     }
+    __syncthreads();  // the list is read
   }
-  __syncwarp();
   if (bits != 0) {
-    const unsigned left = bits & ~cleared[lane];
+    const unsigned left = bits & ~cleared[threadIdx.x];
     kept[p] = static_cast<std::uint16_t>(left);
     tally[p] = {static_cast<std::uint64_t>(__popc(left & 63u)), static_cast<std::uint64_t>(__popc(left >> 6))};
   }
