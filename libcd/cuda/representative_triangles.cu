@@ -199,11 +199,12 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
 /// kNo leave kept[p], tally[p] is counted again, and counters[2]
 /// (vertex-face) and counters[3] (edge-edge) count them. A block lists its
 /// pairs' vertex-face pairs, then their edge-edge pairs, in shared memory,
-/// and screens them a thread each: a thread that looped over its own pair's
+/// and screens them a thread each. A thread that looped over its own pair's
 /// bits held its warp for its neighbours' longest list, through both kinds'
-/// code (×16: about four times as long), and a warp that listed only its own
-/// pairs' ran rounds about two thirds full (×16: 28 ms a step against 20 for
-/// the narrow phase's early-exit kernels before). A kernel of its own: the
+/// code (×16: about four times as long); a warp that listed only its own
+/// pairs' ran shorter rounds (×16: 28 ms a step, against 20 for the narrow
+/// phase's early-exit kernels before; 3 ms a step slower than this end to
+/// end, H200). A kernel of its own: the
 /// early exits need more registers than count_kernel's bound leaves (inside
 /// it they spilled some 19 kB); 128 a thread, as the narrow phase's
 /// early-exit kernel.
