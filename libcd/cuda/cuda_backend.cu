@@ -10,7 +10,10 @@
 //    into the slot used least recently of those no work ahead reads, so it
 //    overlaps the work on the current one.
 //  - broad phase: the GPU broad phase (libcd/cuda/cuda_broad_phase.cuh) on the
-//    positions in the slots; its candidates stay on the device.
+//    positions in the slots; its candidates stay on the device, unsorted,
+//    and its feature stage runs the CCD early exits on them first
+//    (FeatureScreen), so that it hands on only the few they leave undecided
+//    (the step's query counts come from its stats).
 //  - narrow phase: libcd/cuda/narrow_phase.cuh (same functions as the CPU),
 //    reading the broad phase's candidates in place, the vertex-face and the
 //    edge-edge queries one after the other, each with its own buffers, so
