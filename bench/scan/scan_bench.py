@@ -37,6 +37,12 @@ Scenes (those whose files are missing are skipped, with a note):
   cloth_ball_x16  twice (1,475,680 triangles), the whole step; written by
                   snag-bench-gpu --write-refined (needs CUDA) into --work
   sheet_floor     bench/report/make_long_cache.py: a 100 x 100 sheet falling on a floor
+  cloth_funnel    a 96 x 96 cloth (18,432 triangles, self-collision on) jammed in the
+                  neck of a funnel, baked by Blender's cloth solver
+                  (scripts/bake_cloth_cache.py --body funnel) from frame 33 on,
+                  where it lies bunched layer on layer: a long cache of tight
+                  contact. Read from --work/cloth_funnel, baked there first when
+                  `blender` is on the PATH (about a minute on 2 cores)
 
 --grids runs every scene with each grid named (snag-scan --grid: uniform, the
 adaptive grid whose crowded cells are split), side by side in one call.
@@ -75,6 +81,7 @@ sys.path.insert(0, os.path.join(ROOT, "bench", "report"))
 from report_bench import trailer  # noqa: E402  (the report's last record)
 BACKEND_STAGES = ["ccd_broad", "ccd_narrow", "certification", "static_broad", "static_narrow"]
 STAGES = ["read"] + BACKEND_STAGES + ["report_wait"]
+FUNNEL_FROM = 33  # cloth_funnel's first frame: by then the cloth is jammed in the neck
 
 
 class DeviceMemorySampler:
@@ -233,6 +240,18 @@ def make_scenes(args, work):
         files = [os.path.join(long_dir, "sheet.pc2"), "-t", os.path.join(long_dir, "sheet.obj"),
                  os.path.join(long_dir, "floor.pc2"), "-t", os.path.join(long_dir, "floor.obj")]
         scenes["sheet_floor"] = Scene("sheet_floor", None, lambda frames: [*files, "--frames", f"0:{frames - 1}"])
+    if "cloth_funnel" in wanted:
+        funnel = os.path.join(work, "cloth_funnel")
+        names = [os.path.join(funnel, name) for name in ("cloth.pc2", "cloth_rest.obj", "body.pc2", "body_rest.obj")]
+        if not all(os.path.exists(name) for name in names) and shutil.which("blender"):
+            subprocess.run(["blender", "-b", "--factory-startup", "--python",
+                            os.path.join(ROOT, "scripts", "bake_cloth_cache.py"), "--", funnel, "--cells", "96",
+                            "--frames", str(FUNNEL_FROM - 1 + max(args.frames, 12)), "--body", "funnel",
+                            "--self-collision", "--keep-from", str(FUNNEL_FROM)], check=True, stdout=subprocess.DEVNULL)
+        if all(os.path.exists(name) for name in names):
+            files = [names[0], "-t", names[1], names[2], "-t", names[3]]
+            scenes["cloth_funnel"] = Scene("cloth_funnel", 18528,
+                                           lambda frames: [*files, "--frames", f"0:{frames - 1}"])
     return scenes
 
 
