@@ -11,3 +11,8 @@ blender="${BLENDER:-blender}"
 "$blender" -b --factory-startup --python "$root/samples/bake_cloth.py" -- "$root/samples/cloth_ball"
 "$blender" -b --factory-startup --python "$root/tests/io_assimp/export_rig.py" -- "$root/tests/io_assimp/data"
 "$blender" -b --factory-startup --python "$root/tests/real_assets/make_real_assets.py" -- "$root/tests/real_assets/data"
+# A coarse self-colliding cloth lying bunched in a funnel (frames 33-44),
+# for the broad phase's brute-force oracle on tight contact
+# (tests/pipeline/broad_phase_sample_test.cpp).
+"$blender" -b --factory-startup --python "$root/scripts/bake_cloth_cache.py" -- "$root/tests/real_assets/data/cloth_funnel" \
+  --cells 32 --frames 44 --body funnel --self-collision --keep-from 33

@@ -1,5 +1,8 @@
-// The VSS broad phase on the cloth_ball sample against brute force, with the
-// set relation virtual_subdivision_grid.hpp documents:
+// The VSS broad phase on two Blender-baked caches against brute force: the
+// cloth_ball sample, and a self-colliding cloth lying bunched in a funnel
+// (tests/real_assets/data/cloth_funnel, scripts/make-samples.sh), whose folds
+// the solver holds a few millimetres apart, layer on layer: tight contact. With
+// the set relation virtual_subdivision_grid.hpp documents:
 //   T_leaf ⊆ T_vss ⊆ T_root
 // (T_root: brute force over root triangles, T_leaf: brute force over the
 // leaves of the virtual subdivision), for static detection and for CCD
@@ -13,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <iostream>
+#include <string>
 #include <vector>
 
 #include "libcd/broad_phase/brute_force.hpp"
@@ -42,19 +46,32 @@ BroadPhaseSettings two_threads() {
   return settings;
 }
 
-// Frames: the free fall, the first folds, the ball inside the cloth, the end.
-const std::size_t kStaticFrames[] = {2, 17, 25, 29, 39};
-// Steps f -> f + 1 with collisions: folds forming, the ball tunnelling through.
-const std::size_t kCcdSteps[] = {16, 27, 30};
+struct CacheCase {
+  const char* name;
+  const char* dir;                       ///< relative to the source tree
+  std::vector<std::size_t> static_frames;
+  std::vector<std::size_t> ccd_steps;    ///< steps f -> f + 1 with collisions
+};
 
-TEST(SampleBroadPhase, StaticVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryIntersection) {
-  auto source = open_sample_cache();
+const CacheCase kCaches[] = {
+    // The free fall, the first folds, the ball inside the cloth, the end;
+    // steps with folds forming and the ball tunnelling through.
+    {"cloth_ball", "samples/cloth_ball/", {2, 17, 25, 29, 39}, {16, 27, 30}},
+    // Frames 33, 38 and 44 of the bake; steps from frames 33, 39 and 43.
+    {"cloth_funnel", "tests/real_assets/data/cloth_funnel/", {0, 5, 11}, {0, 6, 10}},
+};
+
+class CacheBroadPhase : public ::testing::TestWithParam<CacheCase> {};
+
+TEST_P(CacheBroadPhase, StaticVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryIntersection) {
+  auto source = open_cloth_body_cache(GetParam().dir);
   const Scene& scene = source->scene();
   VirtualSubdivisionGrid vss(true);
   BruteForceBroadPhase brute;
   vss.build(scene, two_threads());
   brute.build(scene, two_threads());
-  for (std::size_t frame : kStaticFrames) {
+  std::size_t intersecting_frames = 0;
+  for (std::size_t frame : GetParam().static_frames) {
     SCOPED_TRACE("frame " + std::to_string(frame));
     const std::vector<Vec3> x = read_positions(*source, frame);
     std::vector<TrianglePair> t_vss, t_root;
@@ -80,20 +97,22 @@ TEST(SampleBroadPhase, StaticVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryInt
       ASSERT_TRUE(std::binary_search(t_vss.begin(), t_vss.end(), p))
           << "intersecting pair (" << p.a << ", " << p.b << ") missed";
     }
+    intersecting_frames += intersecting > 0;
     std::cout << "[ frame " << frame << " ] T_leaf " << t_leaf.size() << "  T_vss " << t_vss.size() << "  T_root "
               << t_root.size() << "  intersecting " << intersecting << "  leaves " << vss.leaves().size() << "\n";
   }
+  EXPECT_GT(intersecting_frames, 0u);  // the frames were picked for their intersections too
 }
 
-TEST(SampleBroadPhase, CcdVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryCollision) {
-  auto source = open_sample_cache();
+TEST_P(CacheBroadPhase, CcdVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryCollision) {
+  auto source = open_cloth_body_cache(GetParam().dir);
   const Scene& scene = source->scene();
   VirtualSubdivisionGrid vss(true);
   BruteForceBroadPhase brute;
   vss.build(scene, two_threads());
   brute.build(scene, two_threads());
   const RepresentativeTriangles reps = assign_representative_triangles(scene);
-  for (std::size_t step : kCcdSteps) {
+  for (std::size_t step : GetParam().ccd_steps) {
     SCOPED_TRACE("step " + std::to_string(step));
     const std::vector<Vec3> x_t0 = read_positions(*source, step), x_t1 = read_positions(*source, step + 1);
     std::vector<VertexFaceCandidate> vf_vss, vf_root, vf_leaf;
@@ -137,6 +156,9 @@ TEST(SampleBroadPhase, CcdVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryCollis
               << "  colliding VF " << vf_colliding << " EE " << ee_colliding << "\n";
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(BlenderCaches, CacheBroadPhase, ::testing::ValuesIn(kCaches),
+                         [](const ::testing::TestParamInfo<CacheCase>& info) { return std::string(info.param.name); });
 
 }  // namespace
 }  // namespace snag::test
