@@ -32,8 +32,8 @@
 #
 # Output in OUTDIR: cloth.pc2 + cloth_rest.obj and body.pc2 + body_rest.obj
 # (PC2 version 1, start frame 1 or K, float32 world positions; the OBJ is the
-# first frame written, with the same vertex order). Load with snag-scan or snag-bench-pipeline as
-# two inputs, each PC2 with its OBJ as topology.
+# first frame written, with the same vertex order). Load with snag-scan or
+# snag-bench-pipeline as two inputs, each PC2 with its OBJ as topology.
 import argparse
 import os
 import sys

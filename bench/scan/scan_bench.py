@@ -250,8 +250,10 @@ def make_scenes(args, work):
                             "--self-collision", "--keep-from", str(FUNNEL_FROM)], check=True, stdout=subprocess.DEVNULL)
         if all(os.path.exists(name) for name in names):
             files = [names[0], "-t", names[1], names[2], "-t", names[3]]
+            with open(names[0], "rb") as pc2:  # a bake of another run may hold fewer frames than asked for
+                frame_count = struct.unpack("<i", pc2.read(32)[28:32])[0]
             scenes["cloth_funnel"] = Scene("cloth_funnel", 18528,
-                                           lambda frames: [*files, "--frames", f"0:{frames - 1}"])
+                                           lambda frames: [*files, "--frames", f"0:{frames - 1}"], frame_count)
     return scenes
 
 
