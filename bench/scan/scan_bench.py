@@ -237,9 +237,10 @@ def make_scenes(args, work):
         if not os.path.exists(os.path.join(long_dir, "floor.obj")):
             subprocess.run([sys.executable, os.path.join(ROOT, "bench", "report", "make_long_cache.py"), long_dir,
                             str(max(args.frames, 12))], check=True, stdout=subprocess.DEVNULL)
-        files = [os.path.join(long_dir, "sheet.pc2"), "-t", os.path.join(long_dir, "sheet.obj"),
-                 os.path.join(long_dir, "floor.pc2"), "-t", os.path.join(long_dir, "floor.obj")]
-        scenes["sheet_floor"] = Scene("sheet_floor", None, lambda frames: [*files, "--frames", f"0:{frames - 1}"])
+        sheet_files = [os.path.join(long_dir, "sheet.pc2"), "-t", os.path.join(long_dir, "sheet.obj"),
+                       os.path.join(long_dir, "floor.pc2"), "-t", os.path.join(long_dir, "floor.obj")]
+        scenes["sheet_floor"] = Scene("sheet_floor", None,
+                                      lambda frames: [*sheet_files, "--frames", f"0:{frames - 1}"])
     if "cloth_funnel" in wanted:
         funnel = os.path.join(work, "cloth_funnel")
         names = [os.path.join(funnel, name) for name in ("cloth.pc2", "cloth_rest.obj", "body.pc2", "body_rest.obj")]
@@ -249,11 +250,12 @@ def make_scenes(args, work):
                             "--frames", str(FUNNEL_FROM - 1 + max(args.frames, 12)), "--body", "funnel",
                             "--self-collision", "--keep-from", str(FUNNEL_FROM)], check=True, stdout=subprocess.DEVNULL)
         if all(os.path.exists(name) for name in names):
-            files = [names[0], "-t", names[1], names[2], "-t", names[3]]
+            funnel_files = [names[0], "-t", names[1], names[2], "-t", names[3]]
             with open(names[0], "rb") as pc2:  # a bake of another run may hold fewer frames than asked for
                 frame_count = struct.unpack("<i", pc2.read(32)[28:32])[0]
             scenes["cloth_funnel"] = Scene("cloth_funnel", 18528,
-                                           lambda frames: [*files, "--frames", f"0:{frames - 1}"], frame_count)
+                                           lambda frames: [*funnel_files, "--frames", f"0:{frames - 1}"],
+                                           frame_count)
     return scenes
 
 
