@@ -92,13 +92,16 @@ class CudaBroadPhase final : public BroadPhase {
   /// `sorted` false in the order of their triangle pairs
   /// (representative_feature_pairs_on_device). With `screen`, only the
   /// candidates the CCD early exits with those settings leave undecided
-  /// (FeatureScreen); stats() are as without it.
+  /// (FeatureScreen); stats() are as without it. A positive `screen_above`
+  /// (FeatureScreen::only_above) leaves the first chunk unscreened when its
+  /// candidates of each kind are at most that many (the caller's narrow
+  /// round) in one part; every later chunk is screened.
   /// @param d_x_t0, d_x_t1  #V device positions at the start and end of the step
   /// @param stream          stream to run on (visit may queue work on it)
   /// Throws UsageError when build() was not called or the budget is too
   /// small for one chunk, CudaError.
   void detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, const CandidateVisitor& visit,
-                            bool sorted = true, const CcdSettings* screen = nullptr);
+                            bool sorted = true, const CcdSettings* screen = nullptr, std::size_t screen_above = 0);
   /// Static triangle pairs for #V device positions d_x (DeviceCandidates::pairs
   /// only), chunk by chunk in ascending order.
   void detect_static_on_device(const Vec3* d_x, cudaStream_t stream, const CandidateVisitor& visit);

@@ -189,6 +189,7 @@ class CudaNarrowPhase {
   /// of this many, so that the device memory of a call is bounded by the
   /// round, not by the candidate count. Results do not depend on it.
   void set_chunk_size(std::size_t candidates) { chunk_size_ = candidates > 0 ? candidates : 1; }
+  std::size_t chunk_size() const { return chunk_size_; }
   static constexpr std::size_t kDefaultChunkSize = std::size_t{1} << 24;
   /// The most blocks the screen's time search runs (default: as many as are
   /// resident at once). Its lanes take the queries one after another, so

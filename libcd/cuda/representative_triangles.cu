@@ -85,7 +85,9 @@ struct WaitingFeaturePair {
 };
 
 /// Counts the feature pairs of triangle pair p < n before and after culling
-/// (tally[p]; tally[n] is zero) and records which the culling kept (kept[p];
+/// (tally[p]; tally[n] is zero; the sums of all pairs in counters[0] and [1]
+/// before, vertex-face and edge-edge, and with count_kept in [4] and [5]
+/// after) and records which the culling kept (kept[p];
 /// kept bit: vertex-face 3 s + i, edge-edge 6 + 3 i + j), so that
 /// write_kernel need not test them again:
 /// the CPU's loop body, one pair a thread. The DOPs' float boxes are tested
@@ -98,7 +100,7 @@ struct WaitingFeaturePair {
 /// Four blocks a multiprocessor (64 registers, a few spilled): on cloth_ball
 /// 345 µs, against 377 with the 84 registers it takes unbounded (H200).
 __global__ void __launch_bounds__(detail::kBlockSize, 4)
-    count_kernel(FeatureInputs in, std::size_t n, FeatureTally* tally, std::uint16_t* kept,
+    count_kernel(FeatureInputs in, std::size_t n, bool count_kept, FeatureTally* tally, std::uint16_t* kept,
                  unsigned long long* counters) {
   __shared__ WaitingFeaturePair warp_waiting[detail::kBlockSize / 32][64];
   __shared__ unsigned warp_kept[detail::kBlockSize / 32][32];
@@ -183,21 +185,32 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
   }
   if (waiting_count > 0) test_waiting(waiting_count);
   __syncwarp();
+  unsigned vf_kept = 0, ee_kept = 0;
   if (valid) {
     const unsigned bits = kept_bits[lane];
+    vf_kept = static_cast<unsigned>(__popc(bits & 63u));
+    ee_kept = static_cast<unsigned>(__popc(bits >> 6));
     kept[p] = static_cast<std::uint16_t>(bits);
-    tally[p] = {static_cast<std::uint64_t>(__popc(bits & 63u)), static_cast<std::uint64_t>(__popc(bits >> 6))};
+    tally[p] = {vf_kept, ee_kept};
   } else if (p == n) {
     tally[p] = {0, 0};
   }
   detail::warp_count(vf_before, &counters[0]);
   detail::warp_count(ee_before, &counters[1]);
+  if (count_kept) {  // the same on every thread
+    detail::warp_count(vf_kept, &counters[4]);
+    detail::warp_count(ee_kept, &counters[5]);
+  }
 }
 
 /// The screen (FeatureScreen) of the feature pairs count_kernel kept of
 /// triangle pair p < n: the early exits run on each, and those they decide
 /// kNo leave kept[p], tally[p] is counted again, and counters[2]
-/// (vertex-face) and counters[3] (edge-edge) count them. A block lists its
+/// (vertex-face) and counters[3] (edge-edge) count them. With
+/// screen.only_above, the whole grid returns at once when count_kernel's
+/// sums (counters[4], [5]) are each at most that many and together at most
+/// part_step (one part): the decision is taken on the device, so that the
+/// host need not wait for the counts first. A block lists its
 /// pairs' vertex-face pairs, then their edge-edge pairs, in shared memory,
 /// and screens them a thread each. A thread that looped over its own pair's
 /// bits held its warp for its neighbours' longest list, through both kinds'
@@ -210,8 +223,12 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
 /// early-exit kernel.
 constexpr unsigned kScreenBlock = 256;
 __global__ void __launch_bounds__(kScreenBlock, 2)
-    screen_kernel(FeatureInputs in, FeatureScreen screen, std::size_t n, FeatureTally* tally, std::uint16_t* kept,
-                  unsigned long long* counters) {
+    screen_kernel(FeatureInputs in, FeatureScreen screen, std::uint64_t part_step, std::size_t n,
+                  FeatureTally* tally, std::uint16_t* kept, unsigned long long* counters) {
+  if (screen.only_above > 0) {  // the same answer on every thread
+    const unsigned long long vf = counters[4], ee = counters[5];
+    if (vf <= screen.only_above && ee <= screen.only_above && vf + ee <= part_step) return;
+  }
   using Scan = cub::BlockScan<unsigned, kScreenBlock>;
   __shared__ typename Scan::TempStorage scan_storage;
   __shared__ Index sides[kScreenBlock][2];
@@ -370,14 +387,19 @@ void representative_feature_pairs_on_device(
                          pairs};
   f.tally.resize(n + 1);
   f.kept.resize(n);
-  f.counters.resize(4);
+  f.counters.resize(6);
   f.counters.fill_zero();
-  count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(in, n, f.tally.data(), f.kept.data(),
-                                                                     f.counters.data());
+  const bool decide_screen = screen != nullptr && screen->only_above > 0;
+  count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(in, n, decide_screen, f.tally.data(),
+                                                                     f.kept.data(), f.counters.data());
   SNAG_CUDA_CHECK_LAUNCH();
+  // Parts of consecutive pairs: a part starts where the candidates before it
+  // reach a multiple of step, so it holds fewer than step + 15 <= room. One
+  // part (the usual case) is all the pairs, and needs no search.
+  const std::uint64_t step = candidate_room - kMostCandidatesPerPair;
   if (screen != nullptr) {
     screen_kernel<<<static_cast<unsigned>((n + kScreenBlock - 1) / kScreenBlock), kScreenBlock, 0, stream>>>(
-        in, *screen, n, f.tally.data(), f.kept.data(), f.counters.data());
+        in, *screen, step, n, f.tally.data(), f.kept.data(), f.counters.data());
     SNAG_CUDA_CHECK_LAUNCH();
   }
   exclusive_scan(f.tally.data(), f.tally.data(), n + 1, AddFeatureTallies{}, f.temp, stream);
@@ -389,10 +411,6 @@ void representative_feature_pairs_on_device(
   counts.vf_after += total.vf + sums[2];
   counts.ee_after += total.ee + sums[3];
 
-  // Parts of consecutive pairs: a part starts where the candidates before it
-  // reach a multiple of step, so it holds fewer than step + 15 <= room. One
-  // part (the usual case) is all the pairs, and needs no search.
-  const std::uint64_t step = candidate_room - kMostCandidatesPerPair;
   const std::uint64_t candidates = total.vf + total.ee;
   const std::size_t parts = std::max<std::uint64_t>(1, candidates / step + (candidates % step != 0 ? 1 : 0));
   std::vector<std::uint64_t> part_bounds(3 * (parts + 1));

@@ -421,6 +421,9 @@ bool early_exits_rule_out(const Scene& scene, const Soup& soup, const EdgeEdgeCa
 // end asks for them): exactly the candidates that the host's CCD early exits
 // do not rule out, with the counts of the unscreened detection; at
 // thickness 0 and above it, in one part of the feature stage and in many.
+// With a threshold (screen_above), a detection in one part whose candidates
+// of each kind are at most that many is not screened, and one with more of
+// either kind, or in many parts, is.
 TEST_F(CudaBroadPhaseTest, ScreenedCandidatesAreThoseTheEarlyExitsLeave) {
   const Soup soup = random_soup(21, 4000, true);
   DeviceBuffer<Vec3> x_t0(0), x_t1(0);
@@ -441,15 +444,19 @@ TEST_F(CudaBroadPhaseTest, ScreenedCandidatesAreThoseTheEarlyExitsLeave) {
       std::vector<EdgeEdgeCandidate> ee, ee_screened;
       gpu->detect_ccd(soup.x_t0, soup.x_t1, vf, ee);
       const BroadPhaseStats unscreened = gpu->stats();
-      gpu->detect_ccd_on_device(
-          x_t0.data(), x_t1.data(), nullptr,
-          [&](const DeviceCandidates& part) {
-            append_from_device(part.vf, part.vf_count, vf_screened);
-            append_from_device(part.ee, part.ee_count, ee_screened);
-          },
-          /*sorted=*/true, &settings);
-      std::sort(vf_screened.begin(), vf_screened.end());
-      std::sort(ee_screened.begin(), ee_screened.end());
+      auto detect_screened = [&](std::size_t screen_above) {
+        vf_screened.clear();
+        ee_screened.clear();
+        gpu->detect_ccd_on_device(
+            x_t0.data(), x_t1.data(), nullptr,
+            [&](const DeviceCandidates& part) {
+              append_from_device(part.vf, part.vf_count, vf_screened);
+              append_from_device(part.ee, part.ee_count, ee_screened);
+            },
+            /*sorted=*/true, &settings, screen_above);
+        std::sort(vf_screened.begin(), vf_screened.end());
+        std::sort(ee_screened.begin(), ee_screened.end());
+      };
       std::vector<VertexFaceCandidate> vf_left;
       std::vector<EdgeEdgeCandidate> ee_left;
       for (const auto& c : vf)
@@ -461,6 +468,15 @@ TEST_F(CudaBroadPhaseTest, ScreenedCandidatesAreThoseTheEarlyExitsLeave) {
       ASSERT_GT(ee_left.size(), 10u) << where;
       ASSERT_LT(vf_left.size(), vf.size() / 2) << where;
       ASSERT_LT(ee_left.size(), ee.size() / 2) << where;
+      const std::size_t most = std::max(vf.size(), ee.size());
+      for (const std::size_t screen_above : {most, most - 1}) {
+        detect_screened(screen_above);
+        const bool screens = candidate_room > 0 || most > screen_above;
+        EXPECT_EQ(vf_screened, screens ? vf_left : vf) << where << ", screen above " << screen_above;
+        EXPECT_EQ(ee_screened, screens ? ee_left : ee) << where << ", screen above " << screen_above;
+        EXPECT_EQ(gpu->stats().candidates, unscreened.candidates) << where << ", screen above " << screen_above;
+      }
+      detect_screened(0);
       EXPECT_EQ(vf_screened, vf_left) << where;
       EXPECT_EQ(ee_screened, ee_left) << where;
       if (candidate_room > 0) EXPECT_GT(gpu->last_feature_parts(), 10u) << where;
