@@ -139,16 +139,19 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
   // it, an edge for the faces on it), the two sets the event joins kept (a
   // vertex's set, once its faces are joined with it below, holds them; an
   // edge's faces hold its first end), and what the regions need of the
-  // event, 48 bytes instead of the event. A vertex on no face (a loose one)
-  // joins nothing.
+  // event, its position and time, in arrays of their own (the positions
+  // are added up on one thread, below, and read alone). A vertex on no face
+  // (a loose one) joins nothing.
   lane.event_first_set.resize(group.size());
   lane.event_second_set.resize(group.size());
-  lane.event_place.resize(group.size());
+  lane.event_position.resize(group.size());
+  lane.event_toi.resize(group.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, group.size(), kEventsPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t k = range.begin(); k < range.end(); ++k) {
                         const Event& e = events[group[k]];
-                        lane.event_place[k] = {e.position, static_cast<double>(e.frame) + e.toi_lo};
+                        lane.event_position[k] = e.position;
+                        lane.event_toi[k] = static_cast<double>(e.frame) + e.toi_lo;
                         Index first = e.a, second = e.b;
                         if (e.kind == EventKind::kIntersection) {
                           mark(lane.face_marks.get(), e.a);
@@ -331,10 +334,12 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
   };
   // At once: each region's positions added up in event order on one thread
   // (the centroid's sum is rounded as it always was: the sum of a region is
-  // one chain of additions, and one region often holds most of the events;
-  // the sum of the region of the last event is kept at hand); each event's
-  // region, and each region's count, box and earliest time over blocks of
-  // events (exact in any order), on all threads; each face's region (its
+  // one chain of additions, and one region often holds most of the events:
+  // its chain is the longest serial work of a frame's regions, so it is
+  // added run by run of events with one root, each run in a loop of nothing
+  // but the additions); each event's region, and each region's count, box
+  // and earliest time over blocks of events (exact in any order), on all
+  // threads; each face's region (its
   // root's) and, for intersections, the box of its corners, on all threads,
   // then the faces listed in ascending order on one thread, so that each
   // region's lists come sorted, and its box grown by theirs (the same box as
@@ -348,18 +353,17 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
   lane.touched_box.resize(face_boxes ? lane.touched.size() : 0);
   tbb::parallel_invoke(
       [&] {
-        std::size_t last_region = kNone;
-        Vec3 sum{0, 0, 0};
-        for (std::size_t k = 0; k < group.size(); ++k) {
-          const std::size_t region = region_of_event(k);
-          if (region != last_region) {
-            if (last_region != kNone) position_sums[last_region - first_region] = sum;
-            last_region = region;
-            sum = position_sums[region - first_region];
-          }
-          sum = sum + lane.event_place[k].position;
+        // Run by run of events with one root (one region), each run's
+        // positions added on in a loop of nothing but the additions.
+        for (std::size_t k = 0; k < group.size();) {
+          const Index root = lane.event_root[k];
+          std::size_t end = k + 1;
+          while (end < group.size() && lane.event_root[end] == root) ++end;
+          Vec3& region_sum = position_sums[lane.region_of_root[root].load(std::memory_order_relaxed) - first_region];
+          Vec3 sum = region_sum;
+          for (; k < end; ++k) sum = sum + lane.event_position[k];
+          region_sum = sum;
         }
-        if (last_region != kNone) position_sums[last_region - first_region] = sum;
       },
       [&] {
         tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
@@ -370,8 +374,8 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
             RegionSums& sum = sums[region - first_region];
             ++sum.events;
             if (!collisions) continue;
-            grow(sum.bounds, lane.event_place[k].position);
-            sum.toi = std::min(sum.toi, lane.event_place[k].toi);
+            grow(sum.bounds, lane.event_position[k]);
+            sum.toi = std::min(sum.toi, lane.event_toi[k]);
           }
         });
       },

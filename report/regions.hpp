@@ -103,10 +103,6 @@ class RegionBuilder {
     Bounds bounds;
     double toi;
   };
-  struct EventPlace {
-    Vec3 position;
-    double toi;  // collisions: frame + toi_lo
-  };
   // Groups built at once, at most; a lane's regions are named in region_of,
   // until the frame's are ordered, by the lane above kLaneShift.
   static constexpr std::size_t kLanes = 2;
@@ -129,7 +125,8 @@ class RegionBuilder {
     std::vector<std::size_t> touched_region;                     // the region of each of the group's faces
     std::vector<Bounds> touched_box;                             // intersections: the box of each of the group's faces
     std::vector<Index> event_first_set, event_second_set;        // the sets each of the group's events joins
-    std::vector<EventPlace> event_place;                         // of each of the group's events
+    std::vector<Vec3> event_position;                            // of each of the group's events
+    std::vector<double> event_toi;                               // collisions: frame + toi_lo of each
     std::vector<Index> event_root;                               // the root of each of the group's events
     std::vector<Index> group_roots;                              // the roots of the group's regions
     std::vector<RegionSums> block_sums;                          // by block of the group's events, then region
