@@ -334,16 +334,14 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
   };
   // At once: each region's positions added up in event order on one thread
   // (the centroid's sum is rounded as it always was: the sum of a region is
-  // one chain of additions, and one region often holds most of the events:
-  // its chain is the longest serial work of a frame's regions, so it is
-  // added run by run of events with one root, each run in a loop of nothing
-  // but the additions); each event's region, and each region's count, box
-  // and earliest time over blocks of events (exact in any order), on all
-  // threads; each face's region (its
-  // root's) and, for intersections, the box of its corners, on all threads,
-  // then the faces listed in ascending order on one thread, so that each
-  // region's lists come sorted, and its box grown by theirs (the same box as
-  // corner by corner).
+  // one chain of additions, and one region often holds most of the events,
+  // so that this chain is the longest serial work of a frame's regions);
+  // each event's region, and each region's count, box and earliest time
+  // over blocks of events (exact in any order), on all threads; each face's
+  // region (its root's) and, for intersections, the box of its corners, on
+  // all threads, then the faces listed in ascending order on one thread, so
+  // that each region's lists come sorted, and its box grown by theirs (the
+  // same box as corner by corner).
   const bool collisions = kind == EventKind::kCollision;
   const bool face_boxes = kind == EventKind::kIntersection;
   const std::size_t region_count = lane.group_roots.size();
@@ -353,8 +351,8 @@ void RegionBuilder::add_regions(Lane& lane, const std::vector<std::size_t>& grou
   lane.touched_box.resize(face_boxes ? lane.touched.size() : 0);
   tbb::parallel_invoke(
       [&] {
-        // Run by run of events with one root (one region), each run's
-        // positions added on in a loop of nothing but the additions.
+        // Run by run of events with one root (a region has one), each run
+        // in a loop of nothing but the additions.
         for (std::size_t k = 0; k < group.size();) {
           const Index root = lane.event_root[k];
           std::size_t end = k + 1;
