@@ -1,6 +1,7 @@
 #include "report/report_sink.hpp"
 
 #include <algorithm>
+#include <exception>
 #include <stdexcept>
 
 namespace snag::report {
@@ -18,7 +19,6 @@ ReportSink::ReportSink(const Scene& scene, const Header& header, const RuleSet& 
       rules_(rules),
       writer_(writer),
       redecide_(std::move(redecide)),
-      digester_(scene, rules),
       tracks_(scene) {
   trailer_.allow_counts.assign(rules_.rules().allow.size(), 0);
   if (writer_) writer_->write_header(header_);
@@ -79,22 +79,69 @@ ReportSink::~ReportSink() {
 }
 
 void ReportSink::wait_for_join() {
-  if (joining_.valid()) joining_.get();
+  if (!joining_.valid()) return;
+  std::exception_ptr error;
+  try {
+    joining_.get();
+  } catch (...) {
+    error = std::current_exception();
+  }
+  {
+    std::lock_guard<std::mutex> lock(pool_mutex_);
+    free_digests_.push_back(std::move(joined_));
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+void ReportSink::prepare(ScannedFrame& frame) {
+  if (redecide_ && frame.x_next) redecide_(*frame.x, *frame.x_next, *frame.events);
+  std::unique_ptr<FrameDigester> digester;
+  std::unique_ptr<FrameDigest> digest;
+  {
+    std::lock_guard<std::mutex> lock(pool_mutex_);
+    if (!free_digesters_.empty()) {
+      digester = std::move(free_digesters_.back());
+      free_digesters_.pop_back();
+    }
+    if (!free_digests_.empty()) {
+      digest = std::move(free_digests_.back());
+      free_digests_.pop_back();
+    }
+  }
+  if (!digester) digester = std::make_unique<FrameDigester>(scene_, rules_);
+  if (!digest) digest = std::make_unique<FrameDigest>();
+  digester->digest(frame, *digest);
+  std::lock_guard<std::mutex> lock(pool_mutex_);
+  free_digesters_.push_back(std::move(digester));
+  prepared_[frame.position] = std::move(digest);
+}
+
+std::unique_ptr<FrameDigest> ReportSink::take_prepared(std::size_t position) {
+  std::lock_guard<std::mutex> lock(pool_mutex_);
+  const auto it = prepared_.find(position);
+  if (it == prepared_.end()) return nullptr;
+  std::unique_ptr<FrameDigest> digest = std::move(it->second);
+  prepared_.erase(it);
+  return digest;
 }
 
 void ReportSink::frame(ScannedFrame& frame) {
-  if (redecide_ && frame.x_next) redecide_(*frame.x, *frame.x_next, *frame.events);
-  FrameDigest& digest = digests_[next_digest_];
-  next_digest_ = 1 - next_digest_;
-  digester_.digest(frame, digest);  // while the frame before is joined
+  std::unique_ptr<FrameDigest> digest = take_prepared(frame.position);
+  if (!digest) {  // not prepared on the scan's sink threads
+    prepare(frame);
+    digest = take_prepared(frame.position);
+  }
   wait_for_join();
   // Listed events are read from the scan's list, which is the scan's again
   // once this returns.
-  if (events_to_list(header_.settings, trailer_.listed, digest.kept) > 0) {
-    join_now(digest);
+  if (events_to_list(header_.settings, trailer_.listed, digest->kept) > 0) {
+    join_now(*digest);
+    std::lock_guard<std::mutex> lock(pool_mutex_);
+    free_digests_.push_back(std::move(digest));
     return;
   }
-  joining_ = joiner_.run([this, &digest] { join_arena_.execute([&] { join_now(digest); }); });
+  joined_ = std::move(digest);
+  joining_ = joiner_.run([this, joined = joined_.get()] { join_arena_.execute([&] { join_now(*joined); }); });
 }
 
 void ReportSink::join(FrameDigest& digest) {

@@ -2,19 +2,22 @@
 // ScanSink), digests it (rules and regions: frame_digest.hpp), joins the
 // digest to the run (region ids, tracks, the event cap, totals), writes the
 // frame's records, and keeps only running totals, so that the scan's memory
-// does not grow with the number of frames or events. A frame that lists no
-// events is joined on a thread of the sink's own while frame() digests the
-// next one (the join reads only the digest); one that lists events reads the
-// scan's list and is joined before frame() returns.
+// does not grow with the number of frames or events. Two frames are digested
+// at once (prepare(), on the scan's sink threads), each by a digester of its
+// own, and joined in turn in frame(). A frame that lists no events is joined
+// on a thread of the sink's own while the next ones are digested (the join
+// reads only the digest); one that lists events reads the scan's list and is
+// joined before frame() returns.
 #pragma once
 
 #include <tbb/task_arena.h>
 
-#include <array>
 #include <cstddef>
 #include <functional>
 #include <future>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <tuple>
 #include <vector>
 
@@ -43,8 +46,13 @@ class ReportSink : public ScanSink {
   ReportSink(const ReportSink&) = delete;
   ReportSink& operator=(const ReportSink&) = delete;
 
+  /// Joins the frame, digested by prepare() (or here, when it was not).
   /// Rethrows what the join of an earlier frame threw.
   void frame(ScannedFrame& frame) override;
+  std::size_t frames_at_once() const override { return kFramesAtOnce; }
+  /// Re-decides the step's collisions and digests the frame (beside the
+  /// other frame being digested and the frame being joined).
+  void prepare(ScannedFrame& frame) override;
   /// Joins a frame digested elsewhere (with this sink's scene and rules) as
   /// frame() joins its own digest: the frames of a run, in order, whether
   /// digested here or there. Needs the first events_to_list() of the
@@ -60,8 +68,12 @@ class ReportSink : public ScanSink {
 
  private:
   using PairKey = std::tuple<int, std::size_t, std::size_t>;  // kind, object a <= b
-  /// Waits for the frame being joined, if any; rethrows what it threw.
+  static constexpr std::size_t kFramesAtOnce = 2;
+  /// Waits for the frame being joined, if any, and gives its digest back;
+  /// rethrows what the join threw.
   void wait_for_join();
+  /// The digest prepare() made of the frame at `position`, or null.
+  std::unique_ptr<FrameDigest> take_prepared(std::size_t position);
   void join_now(FrameDigest& digest);
   PairSummary& pair(EventKind kind, std::size_t a, std::size_t b);
   void end_tracks(std::vector<TrackRecord>& ended);
@@ -72,15 +84,19 @@ class ReportSink : public ScanSink {
   const RuleSet& rules_;
   ReportWriter* writer_;
   Redecide redecide_;
-  FrameDigester digester_;
   TrackBuilder tracks_;
   std::size_t next_region_ = 0;
   Trailer trailer_;
   std::map<PairKey, PairSummary> pairs_;
-  // Scratch reused frame after frame: a digest being joined, the other
-  // being made.
-  std::array<FrameDigest, 2> digests_;
-  std::size_t next_digest_ = 0;
+  // Scratch reused frame after frame, under pool_mutex_: the digesters and
+  // digests not in use (one digester a frame being digested; one digest a
+  // frame being digested, waiting for its join or being joined), and the
+  // digests made by prepare() that frame() has not yet taken, by position.
+  std::mutex pool_mutex_;
+  std::vector<std::unique_ptr<FrameDigester>> free_digesters_;
+  std::vector<std::unique_ptr<FrameDigest>> free_digests_;
+  std::map<std::size_t, std::unique_ptr<FrameDigest>> prepared_;
+  std::unique_ptr<FrameDigest> joined_;  ///< the digest of the frame joined on joiner_, while joining_ is valid
   std::vector<TrackRecord> ended_;
   // The join's parallel work (the tracks) runs in an arena of its own, apart
   // from the digest's on the sink's thread.

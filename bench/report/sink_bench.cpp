@@ -1,8 +1,10 @@
 // snag-bench-report-sink: the report sink's own time per frame, away from
 // the scan. Scans the step t0 -> t1 -> t0 once on the CPU, keeps each
 // frame's events and positions, then feeds a ReportSink the frames
-// t0 t1 t0 t1 ... (as snag-scan --sequence t0 t1 t0 t1 ... does) and times
-// each frame() call and the finish() that waits for the last frame's join:
+// t0 t1 t0 t1 ... (as snag-scan --sequence t0 t1 t0 t1 ... does), through
+// the scan's sink threads with the scan's room (two frames in the sink,
+// digested at once), and times them from the first frame handed to the
+// end of the finish() that waits for the last frame's join:
 // wall and CPU time of the process (the sink's threads and the threads it
 // formats events on; nothing else runs then), so that the
 // number holds on a machine that other work shares. The report goes to
@@ -35,6 +37,7 @@
 #include "io/open_cache.hpp"
 #include "libcd/pipeline/backend.hpp"
 #include "libcd/pipeline/scan.hpp"
+#include "libcd/pipeline/sink_thread.hpp"
 #include "report/regions.hpp"
 #include "report/report_sink.hpp"
 #include "report/report_writer.hpp"
@@ -118,32 +121,34 @@ int run(int argc, char** argv) {
     std::ofstream null("/dev/null");
     snag::report::ReportWriter writer(null);
     snag::report::ReportSink sink(scene, header, rules, &writer);
-    double wall = 0, cpu = 0;
-    std::vector<Event> working;
+    // Each frame's own list (the sink may change it in place until it is
+    // done with the frame), made before the clock starts.
+    std::vector<std::vector<Event>> lists(frames);
     for (std::size_t position = 0; position < frames; ++position) {
-      const Recorded& r = recorded.frames[position % 2];
-      working = r.events;
-      for (Event& e : working) e.frame = position;
-      events += working.size();
-      snag::ScannedFrame frame;
-      frame.position = position;
-      frame.time = static_cast<double>(position);
-      frame.summary.frame = position;
-      frame.events = &working;
-      frame.x = &r.x;
-      frame.x_next = position + 1 < frames ? &recorded.frames[(position + 1) % 2].x : nullptr;
-      const auto wall_start = std::chrono::steady_clock::now();
-      const double cpu_start = process_cpu_seconds();
-      sink.frame(frame);
-      cpu += process_cpu_seconds() - cpu_start;
-      wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      lists[position] = recorded.frames[position % 2].events;
+      for (Event& e : lists[position]) e.frame = position;
+      events += lists[position].size();
+    }
+    const auto wall_start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
+    {
+      snag::SinkThread thread(sink, snag::kScanFramesInSink);
+      for (std::size_t position = 0; position < frames; ++position) {
+        snag::ScannedFrame frame;
+        frame.position = position;
+        frame.time = static_cast<double>(position);
+        frame.summary.frame = position;
+        frame.events = &lists[position];
+        frame.x = &recorded.frames[position % 2].x;
+        frame.x_next = position + 1 < frames ? &recorded.frames[(position + 1) % 2].x : nullptr;
+        thread.hand(frame);
+      }
+      thread.drain();
     }
     // The last frame's join may still run: finish() waits for it.
-    const auto finish_start = std::chrono::steady_clock::now();
-    const double finish_cpu = process_cpu_seconds();
     sink.finish("{}", "{}");
-    cpu += process_cpu_seconds() - finish_cpu;
-    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - finish_start).count();
+    const double cpu = process_cpu_seconds() - cpu_start;
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     wall_ms.push_back(1e3 * wall / static_cast<double>(frames));
     cpu_ms.push_back(1e3 * cpu / static_cast<double>(frames));
 

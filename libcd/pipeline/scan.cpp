@@ -88,10 +88,7 @@ void PipelineStats::add(const PipelineStats& other) {
 
 namespace {
 
-// Frames that may wait for the sink or be in it while the scan goes on: two,
-// so that one slow frame (the first, which lists the most events) is taken
-// up by the next ones instead of stopping the scan.
-constexpr std::size_t kFramesInSink = 2;
+constexpr std::size_t kFramesInSink = kScanFramesInSink;
 // Frames read at once, ahead of the step, at most: one, and two once a step
 // has waited for its frame. A text format (OBJ, ASCII PLY) can take as long
 // to read as a step of the GPU back end, and two reads at a time keep it off
@@ -176,7 +173,7 @@ ScanTotals scan_cache(const FrameSource& source, Backend& backend, const ScanSet
     }
   };
   try {
-    // After the buffers: on the way out it waits for the frame in the sink
+    // After the buffers: on the way out it waits for the frames in the sink
     // and drops the others, so that nothing uses the buffers when they go.
     // Each frame's events are finished (their frame set, counted, put in
     // order) on the sink's thread, so that the scan goes on to the next step

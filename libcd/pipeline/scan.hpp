@@ -52,11 +52,28 @@ struct ScannedFrame {
 /// time, on a thread of its own: the sink of frame f runs while frames f + 1
 /// and f + 2 are scanned. The frame's buffers stay valid until the call returns.
 /// Nothing is kept between calls: what the sink keeps is what the scan holds.
+///
+/// A sink may split its work: prepare() does what a frame needs of nothing
+/// but itself, and may run on frames_at_once() frames at a time, each on a
+/// thread of its own; frame() then takes each prepared frame, in frame
+/// order, one call at a time, on the thread that prepared it. The frame's
+/// buffers stay valid from prepare() until frame() returns.
 class ScanSink {
  public:
   virtual ~ScanSink() = default;
   virtual void frame(ScannedFrame& frame) = 0;
+  /// Frames that may be in prepare() at once (1: prepare() and frame() of a
+  /// frame run before the next frame's prepare()).
+  virtual std::size_t frames_at_once() const { return 1; }
+  /// The frame's own work, before frame() is called on it.
+  virtual void prepare(ScannedFrame& /*frame*/) {}
 };
+
+/// Frames that may wait for the sink or be in it while scan_cache goes on:
+/// two, so that one slow frame (the first, which lists the most events) is
+/// taken up by the next ones instead of stopping the scan, and so that a
+/// sink can prepare two frames at once.
+constexpr std::size_t kScanFramesInSink = 2;
 
 /// What the scan adds up: counts and times, never events.
 struct ScanTotals {

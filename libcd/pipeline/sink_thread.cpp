@@ -17,19 +17,19 @@ double seconds_since(Clock::time_point start) {
 }  // namespace
 
 SinkThread::SinkThread(ScanSink& sink, std::size_t capacity, std::function<void(ScannedFrame&)> finish)
-    : sink_(sink),
-      capacity_(std::max<std::size_t>(capacity, 1)),
-      finish_(std::move(finish)),
-      thread_([this] { run(); }) {}
+    : sink_(sink), capacity_(std::max<std::size_t>(capacity, 1)), finish_(std::move(finish)) {
+  const std::size_t threads = std::clamp<std::size_t>(sink_.frames_at_once(), 1, capacity_);
+  for (std::size_t t = 0; t < threads; ++t) threads_.emplace_back([this] { run(); });
+}
 
 SinkThread::~SinkThread() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
-    queue_.clear();  // the frame in the sink, if any, is finished first
+    queue_.clear();  // the frames in the sink, if any, are finished first
   }
   changed_.notify_all();
-  thread_.join();
+  for (std::thread& thread : threads_) thread.join();
 }
 
 void SinkThread::run() {
@@ -39,23 +39,34 @@ void SinkThread::run() {
     if (stopping_) return;
     ScannedFrame frame = queue_.front();
     queue_.pop_front();
-    in_sink_ = true;
+    const std::size_t ticket = next_ticket_++;
+    if (in_sink_++ == 0) busy_since_ = Clock::now();
     lock.unlock();
-    const auto start = Clock::now();
+    // Prepared beside the other threads' frames; then, in turn, into the
+    // sink, unless a frame before it failed or the scan is going.
     std::exception_ptr error;
     try {
       arena_.execute([&] {
         if (finish_) finish_(frame);
-        sink_.frame(frame);
+        sink_.prepare(frame);
       });
     } catch (...) {
       error = std::current_exception();
     }
-    const double seconds = seconds_since(start);
     lock.lock();
-    sink_seconds_ += seconds;
-    in_sink_ = false;
-    if (error) {
+    changed_.wait(lock, [&] { return turn_ == ticket; });
+    if (!error && !error_ && !stopping_) {
+      lock.unlock();
+      try {
+        arena_.execute([&] { sink_.frame(frame); });
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+    }
+    ++turn_;
+    if (--in_sink_ == 0) sink_seconds_ += seconds_since(busy_since_);
+    if (error && !error_) {
       error_ = error;
       queue_.clear();  // no frame after a failed one
     }
@@ -86,7 +97,7 @@ void SinkThread::hand(const ScannedFrame& frame) {
 
 double SinkThread::sink_seconds() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return sink_seconds_;
+  return sink_seconds_ + (in_sink_ > 0 ? seconds_since(busy_since_) : 0.0);
 }
 
 }  // namespace snag

@@ -1,11 +1,16 @@
-// One thread for the scan's sink, for the whole scan: frames are handed to it
-// through a bounded queue and it calls ScanSink::frame on them in order, so
+// Threads for the scan's sink, for the whole scan: frames are handed to them
+// through a bounded queue and they call ScanSink::frame on them in order, so
 // that the report of frame f is written while the scan goes on with the next
-// ones and no thread is started per frame.
+// ones and no thread is started per frame. One thread, or as many as the
+// sink prepares frames at once (ScanSink::frames_at_once, at most the
+// queue's capacity): each takes the next frame, prepares it beside the
+// others, and waits for the frames before it to leave the sink before it
+// hands its own to ScanSink::frame.
 #pragma once
 
 #include <tbb/task_arena.h>
 
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -13,6 +18,7 @@
 #include <functional>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include "libcd/pipeline/scan.hpp"
 
@@ -20,13 +26,15 @@ namespace snag {
 
 class SinkThread {
  public:
-  /// Starts the thread. `capacity` (at least 1): how many frames may wait or
+  /// Starts the threads. `capacity` (at least 1): how many frames may wait or
   /// be in the sink at once; the scan's buffers must outlive them. `finish`,
-  /// when set, is called on each frame on the sink's thread just before the
-  /// sink is (the scan's last work on a frame, taken off the scan's thread).
+  /// when set, is called on each frame on a sink's thread just before the
+  /// sink's prepare() (the scan's last work on a frame, taken off the scan's
+  /// thread).
   SinkThread(ScanSink& sink, std::size_t capacity, std::function<void(ScannedFrame&)> finish = {});
-  /// Drops the frames not yet started, waits for the one in the sink and
-  /// ends the thread (so that nothing uses the scan's buffers after it).
+  /// Drops the frames not yet started, waits for the ones in the sink (those
+  /// prepared and not yet in ScanSink::frame go no further) and ends the
+  /// threads (so that nothing uses the scan's buffers after them).
   ~SinkThread();
   SinkThread(const SinkThread&) = delete;
   SinkThread& operator=(const SinkThread&) = delete;
@@ -40,8 +48,9 @@ class SinkThread {
   /// Waits for every frame handed over. Rethrows what the sink threw.
   void drain() { wait_until_at_most(0); }
 
-  /// Time spent in `finish` and ScanSink::frame, and time spent waiting in
-  /// hand() and drain(), seconds, so far.
+  /// Time during which a frame was in the sink (in `finish`, prepare() or
+  /// frame(), or waiting for its turn), and time spent waiting in hand() and
+  /// drain(), seconds, so far.
   double sink_seconds() const;
   double wait_seconds() const { return wait_seconds_; }
 
@@ -55,17 +64,20 @@ class SinkThread {
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<ScannedFrame> queue_;  // frames waiting for the sink, in order
-  bool in_sink_ = false;            // a frame is in ScanSink::frame
+  std::size_t in_sink_ = 0;         // frames taken off the queue and not yet done
+  std::size_t next_ticket_ = 0;     // the order of the next frame taken off the queue
+  std::size_t turn_ = 0;            // the ticket of the next frame for ScanSink::frame
   bool stopping_ = false;
   std::exception_ptr error_;
-  double sink_seconds_ = 0;  // under mutex_
+  double sink_seconds_ = 0;                   // under mutex_: while in_sink_ was above 0, before busy_since_
+  std::chrono::steady_clock::time_point busy_since_;  // under mutex_: when in_sink_ last left 0
   double wait_seconds_ = 0;  // the scan's thread only
   // The sink's parallel work runs in an arena of its own: a thread of the
   // scan waiting for its own tasks never picks up the sink's, and the sink's
   // thread never picks up the back end's (whose tasks can be long), so that
   // neither waits for the other's work.
   tbb::task_arena arena_;
-  std::thread thread_;       // last: started once everything above is set up
+  std::vector<std::thread> threads_;  // last: started once everything above is set up
 };
 
 }  // namespace snag

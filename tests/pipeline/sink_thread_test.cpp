@@ -1,13 +1,18 @@
 // The scan's sink thread: frames reach the sink in order, one at a time; the
 // scan waits once `capacity` frames are queued or in the sink, so that it is
 // never more than that many frames ahead of the report; what the sink throws
-// comes out of the scan's side, and no frame after it reaches the sink.
+// comes out of the scan's side, and no frame after it reaches the sink. A
+// sink that prepares two frames at once gets them on two threads, and each
+// frame's frame() in order, on the thread that prepared it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <map>
 #include <mutex>
+#include <set>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -124,6 +129,78 @@ TEST(SinkThread, ASinkErrorComesOutAndNoLaterFrameReachesTheSink) {
   }
   EXPECT_TRUE(thrown);
   EXPECT_EQ(sink.seen, (std::vector<std::size_t>{0, 1}));
+}
+
+/// Prepares two frames at once: the prepare() of an even frame waits (up to
+/// a time that fails the test rather than hangs it) until the odd frame
+/// after it is being prepared too. Records the order of frame() and the
+/// threads of both calls; throws in prepare() at `failing`.
+class TwoAtOnceSink final : public ScanSink {
+ public:
+  explicit TwoAtOnceSink(std::size_t failing) : failing_(failing) {}
+  std::size_t frames_at_once() const override { return 2; }
+  void prepare(ScannedFrame& frame) override {
+    std::unique_lock<std::mutex> lock(mutex_);
+    preparing.push_back(frame.position);
+    prepare_threads[frame.position] = std::this_thread::get_id();
+    changed_.notify_all();
+    if (frame.position % 2 == 0) {
+      const bool met = changed_.wait_for(lock, std::chrono::seconds(20), [&] {
+        return std::find(preparing.begin(), preparing.end(), frame.position + 1) != preparing.end();
+      });
+      if (!met) waited_alone.push_back(frame.position);
+    }
+    if (frame.position == failing_) throw std::runtime_error("prepare failed");
+  }
+  void frame(ScannedFrame& frame) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    framed.push_back(frame.position);
+    frame_threads[frame.position] = std::this_thread::get_id();
+  }
+  // Under mutex_ until the threads are done.
+  std::vector<std::size_t> preparing, framed, waited_alone;
+  std::map<std::size_t, std::thread::id> prepare_threads, frame_threads;
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::size_t failing_;
+};
+
+TEST(SinkThread, PreparesTwoFramesAtOnceAndHandsThemToTheSinkInOrder) {
+  TwoAtOnceSink sink(99);
+  {
+    SinkThread thread(sink, 2);
+    for (std::size_t p = 0; p < 8; ++p) thread.hand(at(p));
+    thread.drain();
+    EXPECT_GT(thread.sink_seconds(), 0.0);
+  }
+  EXPECT_TRUE(sink.waited_alone.empty()) << "frame " << sink.waited_alone.front() << " was prepared alone";
+  EXPECT_EQ(sink.framed, (std::vector<std::size_t>{0, 1, 2, 3, 4, 5, 6, 7}));
+  std::set<std::thread::id> threads;
+  for (std::size_t p = 0; p < 8; ++p) {
+    EXPECT_EQ(sink.frame_threads[p], sink.prepare_threads[p]) << "frame " << p << " left the thread that prepared it";
+    EXPECT_NE(sink.prepare_threads[p], std::this_thread::get_id()) << "frame " << p;
+    threads.insert(sink.prepare_threads[p]);
+  }
+  EXPECT_EQ(threads.size(), 2u);
+}
+
+TEST(SinkThread, AFailedPrepareComesOutAfterTheFramesBeforeItAndNoLaterFrameReachesTheSink) {
+  TwoAtOnceSink sink(2);
+  bool thrown = false;
+  {
+    SinkThread thread(sink, 2);
+    try {
+      for (std::size_t f = 0; f < 50; ++f) thread.hand(at(f));
+      thread.drain();
+    } catch (const std::runtime_error& error) {
+      thrown = true;
+      EXPECT_STREQ(error.what(), "prepare failed");
+    }
+  }
+  EXPECT_TRUE(thrown);
+  EXPECT_EQ(sink.framed, (std::vector<std::size_t>{0, 1}));
 }
 
 /// Frames of one triangle; reads cost nothing.

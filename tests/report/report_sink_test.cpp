@@ -1,5 +1,6 @@
 // The report sink joins a frame that lists no events on a thread of its own
-// while it digests the next one: its report is byte for byte the report of
+// while it digests the next one, and digests two frames at once on the scan's
+// sink threads: its report is byte for byte the report of
 // the same frames digested and joined one after the other, the scan's list
 // of a frame may change as soon as frame() returns, and what a join threw
 // comes out of the next frame().
@@ -14,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "libcd/pipeline/sink_thread.hpp"
 #include "report/frame_digest.hpp"
 #include "report/report_writer.hpp"
 #include "report/rules.hpp"
@@ -135,7 +137,25 @@ TEST(ReportSink, FramesJoinedBesideTheNextDigestWriteTheReportOfFramesJoinedInTu
     }
     sink.finish("{}", "{}");
   }
+  // Through the scan's sink threads: two frames digested at once, each
+  // frame's list its own until the sink is done with it.
+  std::ostringstream two_at_once_out;
+  {
+    ReportWriter writer(two_at_once_out);
+    ReportSink sink(g.scene, header, rules, &writer);
+    std::vector<std::vector<Event>> lists(kFrames);
+    {
+      SinkThread thread(sink, 2);
+      for (std::size_t k = 0; k < kFrames; ++k) {
+        lists[k] = frame_events(g, k, 3 + k % 2);
+        thread.hand(scanned(k, lists[k], g.x));
+      }
+      thread.drain();
+    }
+    sink.finish("{}", "{}");
+  }
   ASSERT_GT(in_turn_out.str().size(), 0u);
+  EXPECT_EQ(two_at_once_out.str(), in_turn_out.str());
   EXPECT_NE(in_turn_out.str().find("\"record\":\"event\""), std::string::npos);
   EXPECT_NE(in_turn_out.str().find("\"record\":\"track\""), std::string::npos);
   EXPECT_EQ(out.str(), in_turn_out.str());
