@@ -260,14 +260,19 @@ def make_scenes(args, work):
     return scenes
 
 
+def scan_command(args, scan, scene, frames, mode, grid, work):
+    """snag-scan over `frames` frames of the scene, and the path of the report it writes."""
+    path = os.path.join(work, f"{scene.name}_{mode}_{grid}_{frames}.jsonl")
+    return [scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "--grid", grid, "-q", "-r", path], path
+
+
 def one_run(args, scan, scene, mode, grid, work):
     """One run of `scan` on a scene: its 2-frame and long selections (their trailers' times) and memory."""
     long_frames = args.frames if scene.frame_count is None else min(args.frames, scene.frame_count)
     run = {"totals": {}}
     for frames in (2, long_frames):
-        path = os.path.join(work, f"{scene.name}_{mode}_{grid}_{frames}.jsonl")
-        rss, _, wall = run_scan([scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "--grid", grid,
-                                 "-q", "-r", path])
+        command, path = scan_command(args, scan, scene, frames, mode, grid, work)
+        rss, _, wall = run_scan(command)
         t = trailer(path)
         run["totals"][frames] = stage_seconds(t)
         if frames == long_frames:
@@ -319,9 +324,7 @@ def device_peak_mib(args, scan, scene, mode, grid, work, frames):
     20 ms slow the scan they watch (by 0.1 to 0.2 ms a step of cloth_ball, CCD and static, on an H200)."""
     if args.backend != "cuda":
         return None
-    path = os.path.join(work, f"{scene.name}_{mode}_{grid}_{frames}_memory.jsonl")
-    _, device, _ = run_scan([scan, *scene.inputs(frames), "-b", args.backend, "-m", mode, "--grid", grid, "-q",
-                             "-r", path], sample_device=True)
+    _, device, _ = run_scan(scan_command(args, scan, scene, frames, mode, grid, work)[0], sample_device=True)
     return device
 
 
