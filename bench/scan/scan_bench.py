@@ -21,7 +21,10 @@ starting snag-scan to its exit, and "outside" the part of it the report's
 timing.total leaves out (opening the cache and reading its topology,
 starting the device and binding the back end, writing the report's end,
 exiting), in ms, which the time per step does not show; "start" is the part
-before the scan (the report's timing.start).
+before the scan (the report's timing.start). "2-fr ms" is the 2-frame run's
+timing.total: the time per step is a difference of two runs, so that a
+change to what the first frames cost moves it too (a slower 2-frame run
+makes the step look faster); the two are read together.
 
 Memory: the host's peak resident size (wait4) of the long run, the broad
 phase's own peak (stages.*.peak_memory_bytes), and on a GPU the largest device
@@ -299,7 +302,9 @@ def summarize(scene, mode, grid, runs):
                 "total_per_run_ms": per_step["total"], "stages": runs[-1]["stages"],
                 "wall_s": statistics.median(r["wall"] for r in runs),
                 "outside_ms": 1e3 * statistics.median(r["outside"] for r in runs),
-                "start_ms": 1e3 * statistics.median(r["start"] for r in runs)})
+                "start_ms": 1e3 * statistics.median(r["start"] for r in runs),
+                "two_frame_ms": 1e3 * statistics.median(r["totals"][2]["total"] for r in runs),
+                "long_total_ms": 1e3 * statistics.median(r["totals"][long_frames]["total"] for r in runs)})
     return row
 
 
@@ -392,7 +397,7 @@ def main():
     width = 15 if args.baseline is None else 22  # the scene's name, and with --baseline which build ran
     header = (f"{'scene':<{width}} {'mode':<4} {'grid':<8} {'total':>8} {'backend':>8} {'read':>6} {'ccd bp':>7} {'ccd np':>7} "
               f"{'certif':>7} {'st bp':>7} {'st np':>7} {'report':>7} {'rep wait':>8} {'other':>7} {'dev MiB':>8} {'bp MiB':>7} "
-              f"{'host MiB':>8} {'wall s':>7} {'outside':>7} {'start':>6}")
+              f"{'host MiB':>8} {'wall s':>7} {'outside':>7} {'start':>6} {'2-fr ms':>8}")
     print(header)
     for name in args.scenes.split(","):
         if name not in scenes:
@@ -411,7 +416,7 @@ def main():
                           f"{row['static_broad']:>7.2f} {row['static_narrow']:>7.2f} {row['report']:>7.2f} "
                           f"{row['report_wait']:>8.2f} {row['other']:>7.2f} {device:>8} {row['broad_peak_mib']:>7.0f} "
                           f"{row['host_peak_mib']:>8.0f} {row['wall_s']:>7.2f} {row['outside_ms']:>7.0f} "
-                          f"{row['start_ms']:>6.0f}",
+                          f"{row['start_ms']:>6.0f} {row['two_frame_ms']:>8.1f}",
                           flush=True)
                 if args.baseline is not None:
                     comparison = compare(rows["baseline"], rows["scan"])
