@@ -51,6 +51,7 @@ nlohmann::json to_json(const Result& r) {
           {"registrations", s.registrations}, {"home_registrations", s.home_registrations},
           {"phantom_registrations", s.phantom_registrations},
           {"duplicate_registrations_removed", s.duplicate_registrations_removed}, {"tests", s.tests},
+          {"culled_by_boxes", s.culled_by_boxes},
           {"same_root_tests", s.same_root_tests}, {"removed_by_time_slots", s.removed_by_time_slots},
           {"removed_by_control_bits", s.removed_by_control_bits},
           {"removed_by_extended_control_bits", s.removed_by_extended_control_bits},

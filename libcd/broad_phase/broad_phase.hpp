@@ -52,8 +52,11 @@ struct BroadPhaseStats {
   // registration
   std::size_t registrations = 0, home_registrations = 0, phantom_registrations = 0;
   std::size_t duplicate_registrations_removed = 0;  ///< by the scan after the sort
-  // pair tests (one per work item)
+  // pair tests (one per work item); the VSS grids test the roots' float boxes
+  // first: same_root_tests to tests_after_control_bits count among the tests
+  // whose boxes meet
   std::size_t tests = 0;                          ///< pairs enumerated in cells
+  std::size_t culled_by_boxes = 0;                ///< VSS grids: the roots' float boxes apart (float_box.hpp)
   std::size_t same_root_tests = 0;                ///< both registrations of one root (left by the scan, or other slots)
   std::size_t removed_by_time_slots = 0;          ///< slots not nested
   std::size_t removed_by_control_bits = 0;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "libcd/bounding_volume/float_box.hpp"
 #include "libcd/broad_phase/broad_phase_support.hpp"
 #include "libcd/broad_phase/feature_stage.hpp"
 #include "libcd/core/error.hpp"
@@ -25,7 +26,8 @@ using namespace broad_phase_support;
 
 /// Counters of one chunk of work items.
 struct PairCounts {
-  std::size_t same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culled = 0;
+  std::size_t boxes_apart = 0, same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0,
+              passed = 0, culled = 0;
 };
 
 /// The two rules every cell applies before its own: leaves of one root are
@@ -170,6 +172,10 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
                   std::vector<std::uint64_t>& kept, std::vector<std::uint64_t>& culled) {
     const RegisteredLeaf& a = registered[lists.first[c] + i];
     const RegisteredLeaf& b = registered[lists.first[c] + j];
+    if (!float_boxes_may_overlap(root_boxes_[a.root], root_boxes_[b.root])) {
+      ++counts.boxes_apart;
+      return;
+    }
     if (!leaves_may_meet(a, b, counts)) return;
     switch (cell_pair_verdict(a.cells, b.cells, cell_coords[c])) {
       case CellPairVerdict::kSkipControlBits: ++counts.control_bits; return;
@@ -218,6 +224,10 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::adaptive_pair_tests() 
     const std::uint32_t la = tree.members[cell.first + i], lb = tree.members[cell.first + j];
     const Leaf& a = leaves_[la];
     const Leaf& b = leaves_[lb];
+    if (!float_boxes_may_overlap(root_boxes_[a.triangle.root], root_boxes_[b.triangle.root])) {
+      ++counts.boxes_apart;
+      return;
+    }
     if (!leaves_may_meet(a.triangle, b.triangle, counts)) return;
     if (!adaptive_cell_owns_pair(tree.blocks[la], tree.blocks[lb], tree.depth, cell.level, cell.coord)) {
       ++counts.control_bits;
@@ -244,6 +254,8 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   // 1. Bounding volumes of triangles, edges and vertices.
   auto t = Clock::now();
   bounds_ = compute_primitive_bounds(scene, x_t0, x_t1, settings_.thickness);
+  root_boxes_.resize(bounds_.triangles.size());
+  for (std::size_t f = 0; f < root_boxes_.size(); ++f) root_boxes_[f] = float_box_of(bounds_.triangles[f]);
   stats_.seconds_bounds = seconds_since(t);
 
   // 2. Cell size and grid; 3. virtual subdivision.
@@ -275,6 +287,7 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   std::size_t key_count = 0;
   for (std::size_t k = 0; k < tests.counts.size(); ++k) {
     const PairCounts& counts = tests.counts[k];
+    stats_.culled_by_boxes += counts.boxes_apart;
     stats_.same_root_tests += counts.same_root;
     stats_.removed_by_time_slots += counts.time_slots;
     stats_.removed_by_control_bits += counts.control_bits;

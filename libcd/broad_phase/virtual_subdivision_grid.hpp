@@ -8,8 +8,10 @@
 //   3. virtual Loop subdivision and time halving, level by level (subdivision/)
 //   4. registration in home and phantom cells with control bits, one sort by
 //      cell id, one scan removing duplicate registrations (grid/cell_registration)
-//   5. one test per work item (grid/pair_index): control bits and extended
-//      control bits (grid/control_bits), triangle 18-DOP culling
+//   5. one test per work item (grid/pair_index): the roots' float boxes
+//      (bounding_volume/float_box), control bits and extended control bits
+//      (grid/control_bits), triangle 18-DOP culling; the rules count among
+//      the tests whose boxes meet (culled_by_boxes: the others)
 //   6. final sort + unique of root pairs: the duplicate root-pair tests that
 //      remain are counted exactly, then removed
 //   7. representative triangles and feature-level DOP culling (culling/)
@@ -55,6 +57,7 @@
 
 #include <vector>
 
+#include "libcd/bounding_volume/float_box.hpp"
 #include "libcd/bounding_volume/primitive_bounds.hpp"
 #include "libcd/broad_phase/broad_phase.hpp"
 #include "libcd/culling/representative_triangles.hpp"
@@ -100,6 +103,7 @@ class VirtualSubdivisionGrid : public BroadPhase {
   BroadPhaseStats stats_;
   std::vector<Leaf> leaves_;
   PrimitiveBounds bounds_;
+  std::vector<FloatBox> root_boxes_;  ///< float_box_of(bounds_.triangles[f]): each test's first filter
   GridSpec grid_;
 };
 

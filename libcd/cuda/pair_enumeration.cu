@@ -43,7 +43,7 @@ using detail::thread_item;
 using detail::unpack_key;
 
 /// Counter slots of the test kernel.
-enum Counter { kSameRoot, kTimeSlots, kControlBits, kExtended, kFallback, kPassed, kKept, kCulled, kCounters };
+enum Counter { kBoxesApart, kSameRoot, kTimeSlots, kControlBits, kExtended, kFallback, kPassed, kKept, kCulled, kCounters };
 
 /// Sort keys of the registrations: cell rank above, root triangle below
 /// (pack_key); the values are the leaf ids.
@@ -264,14 +264,21 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// (grid/pair_index.hpp), finds a tile's cell by a galloping search from its
 /// last one (the block's tiles ascend), reads the tile's rows and columns
 /// and their roots' float boxes into shared memory, and its threads run the
-/// tile's tests, row by row, with the CPU's filters in the CPU's order (the
-/// roots' DOP test after their float boxes': the same answer, see
-/// float_box.hpp); Cells (UniformTileCells, AdaptiveTileCells) gives the cell's
-/// own rule. Only the tests whose smaller root lies in [range_first, range_end)
-/// run (the uniform cells' rows hold no other), and a tile that
-/// Cells::tile_may_hold rules out is skipped whole. The tests whose boxes meet
-/// wait in their warp's list until it holds 32, whose roots' DOPs the warp then
-/// tests with all its lanes (across tiles; the last ones at the end). Each kept
+/// tile's tests, row by row, with the CPU's filters in the CPU's order
+/// (broad_phase/virtual_subdivision_grid.cpp): the roots' float boxes first,
+/// then same root, time slots and the cell's rule (Cells: UniformTileCells,
+/// AdaptiveTileCells), then the roots' DOPs (the boxes' and the DOPs' test
+/// give the DOPs' answer together, see float_box.hpp). Only the tests whose
+/// smaller root lies in [range_first, range_end) run (the uniform cells' rows
+/// hold no other), and a tile that Cells::tile_may_hold rules out is skipped
+/// whole. A round's tests whose boxes meet (a few in a hundred on the cloths)
+/// wait in their warp's list of the tile's (row, column) until it holds 32,
+/// whose rules the warp then runs with all its lanes (the last ones at the
+/// tile's end): run in the round, they took the warp's time in nearly every
+/// round (test_kernel on cloth_ball ×4: 4.09 -> 2.93 ms, 2.91e9 -> 1.97e9
+/// instructions, H200). The tests they pass wait in a second list until it
+/// holds 32, whose roots' DOPs the warp then tests with all its lanes
+/// (across tiles; the last ones at the end). Each kept
 /// test adds one to its smaller root's bucket of the histogram over the range
 /// (in shared memory, added to `histogram` once per block). Counters are summed
 /// in registers and added with one atomic per warp at the end; kept root pairs
@@ -300,17 +307,21 @@ __global__ void __launch_bounds__(kTestBlock)
   Cell& tile_cell_info = *reinterpret_cast<Cell*>(cell_storage);
   for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
   if (threadIdx.x == 0) tile_cell = 0;
-  unsigned same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0, culls = 0;
-  // Each warp's keys whose roots' DOPs are still to be tested, and its kept
-  // keys still to be written, in shared memory: a warp tests 32 DOP pairs at
-  // once with all its lanes (a round's tests leave a few lanes with boxes
-  // that meet), and reserves room for 32 kept keys with one atomic. The
-  // counts are the same on every lane of the warp.
+  unsigned boxes_apart = 0, same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0,
+           culls = 0;
+  // Each warp's tests of the tile whose boxes meet, still to be decided (as
+  // row << 6 | column), its keys whose roots' DOPs are still to be tested,
+  // and its kept keys still to be written, in shared memory: a warp decides
+  // 32 tests and tests 32 DOP pairs at once with all its lanes, and reserves
+  // room for 32 kept keys with one atomic. The counts are the same on every
+  // lane of the warp.
+  __shared__ std::uint16_t warp_meeting[kTestBlock / 32][64];
   __shared__ std::uint64_t warp_waiting[kTestBlock / 32][64], warp_keeping[kTestBlock / 32][64];
   const unsigned lane = threadIdx.x & 31u;
+  std::uint16_t* const meeting = warp_meeting[threadIdx.x / 32];
   std::uint64_t* const waiting = warp_waiting[threadIdx.x / 32];
   std::uint64_t* const keeping = warp_keeping[threadIdx.x / 32];
-  unsigned waiting_count = 0, keeping_count = 0;
+  unsigned meeting_count = 0, waiting_count = 0, keeping_count = 0;
   auto record_cull = [&](bool cull, std::uint64_t key) {
     if (count_culled) {
       const unsigned long long slot = detail::warp_append(cull, &counters[kCulled]);
@@ -374,19 +385,20 @@ __global__ void __launch_bounds__(kTestBlock)
     load_tile_side(source, cell_first + tile_rows[0], row_count, cell, triangle_boxes, rows);
     load_tile_side(source, cell_first + tile_columns[0], column_count, cell, triangle_boxes, columns);
     __syncthreads();
-    // One test of the tile; every thread of the block calls it once per
-    // round, with `valid` set where it has a test.
-    auto run_test = [&](bool valid, unsigned row, unsigned column) {
+    // The rules of the tests whose roots' boxes meet, 32 waiting tests at a
+    // time, a test a lane (a round's tests leave a few lanes whose boxes
+    // meet: run there, the rules would take the whole warp's time in almost
+    // every round).
+    auto decide_meeting = [&](unsigned n) {
       bool wait = false, cull = false;
       std::uint64_t key = 0;
-      if (valid) {
+      if (lane < n) {
+        const unsigned item = meeting[lane];
+        const unsigned row = item >> 6, column = item & 63u;
         const Member& a = rows.members[row];
         const Member& b = columns.members[column];
         const Index ra = a.root, rb = b.root;
-        const Index low = ra < rb ? ra : rb;
-        if (low < range_first || low >= range_end) {
-          // another chunk's test
-        } else if (ra == rb) {
+        if (ra == rb) {
           ++same_root;
         } else if (!slots_nested(a, b)) {
           ++time_slots;
@@ -404,22 +416,32 @@ __global__ void __launch_bounds__(kTestBlock)
             case CellPairVerdict::kTest: {
               ++passed;
               key = ra < rb ? pack_key(ra, rb, key_bits) : pack_key(rb, ra, key_bits);
-              // The float boxes first (in shared memory, most pairs apart
-              // there); the roots' DOPs (144 bytes each) only where the
-              // boxes meet, later, a warp's worth at a time.
-              if (float_boxes_may_overlap(rows.boxes[row], columns.boxes[column]) && source.leaves_overlap(a, b)) {
-                wait = true;
-              } else {
-                cull = true;
-              }
+              if (source.leaves_overlap(a, b)) wait = true; else cull = true;
               break;
             }
           }
         }
       }
+      detail::warp_list_drop(meeting, meeting_count, n);
       detail::warp_list_push(wait, key, waiting, waiting_count);
       if (waiting_count >= 32) test_waiting(32);
       record_cull(cull, key);
+    };
+    // One test of the tile; every thread of the block calls it once per
+    // round, with `valid` set where it has a test.
+    auto run_test = [&](bool valid, unsigned row, unsigned column) {
+      bool meet = false;
+      if (valid) {
+        const Index ra = rows.members[row].root, rb = columns.members[column].root;
+        const Index low = ra < rb ? ra : rb;
+        if (low >= range_first && low < range_end) {  // else another chunk's test
+          meet = float_boxes_may_overlap(rows.boxes[row], columns.boxes[column]);
+          boxes_apart += meet ? 0 : 1;
+        }
+      }
+      static_assert(kPairTileSide <= 64, "a tile's (row, column) is packed in 12 bits");
+      detail::warp_list_push(meet, static_cast<std::uint16_t>((row << 6) | column), meeting, meeting_count);
+      if (meeting_count >= 32) decide_meeting(32);
     };
     if (offset >= static_cast<std::int64_t>(row_count)) {
       // Every column after every row: slot s = row * column_count + column,
@@ -453,9 +475,11 @@ __global__ void __launch_bounds__(kTestBlock)
         run_test(k < tests, static_cast<unsigned>(q - d), static_cast<unsigned>(j));
       }
     }
+    if (meeting_count > 0) decide_meeting(meeting_count);
   }
   if (waiting_count > 0) test_waiting(waiting_count);
   if (keeping_count > 0) write_kept(keeping_count);
+  detail::warp_count(boxes_apart, &counters[kBoxesApart]);
   detail::warp_count(same_root, &counters[kSameRoot]);
   detail::warp_count(time_slots, &counters[kTimeSlots]);
   detail::warp_count(control_bits, &counters[kControlBits]);
@@ -742,6 +766,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
     visit(p.pairs.data(), kept_unique);
   }
   stats.tests = whole_set.tests;
+  stats.culled_by_boxes = totals[kBoxesApart];
   stats.same_root_tests = totals[kSameRoot];
   stats.removed_by_time_slots = totals[kTimeSlots];
   stats.removed_by_control_bits = totals[kControlBits];

@@ -38,7 +38,7 @@ void add_broad(BroadPhaseStats& total, const BroadPhaseStats& s) {
       &BroadPhaseStats::time_halvings, &BroadPhaseStats::oversized_leaves, &BroadPhaseStats::leaf_triangles,
       &BroadPhaseStats::registrations, &BroadPhaseStats::home_registrations,
       &BroadPhaseStats::phantom_registrations, &BroadPhaseStats::duplicate_registrations_removed,
-      &BroadPhaseStats::tests, &BroadPhaseStats::same_root_tests, &BroadPhaseStats::removed_by_time_slots,
+      &BroadPhaseStats::tests, &BroadPhaseStats::culled_by_boxes, &BroadPhaseStats::same_root_tests, &BroadPhaseStats::removed_by_time_slots,
       &BroadPhaseStats::removed_by_control_bits, &BroadPhaseStats::removed_by_extended_control_bits,
       &BroadPhaseStats::fallback_tests, &BroadPhaseStats::tests_after_control_bits,
       &BroadPhaseStats::duplicate_root_pair_tests, &BroadPhaseStats::duplicate_culled_tests,

@@ -102,6 +102,7 @@ void expect_same_counts(const BroadPhaseStats& cpu, const BroadPhaseStats& gpu) 
   EXPECT_EQ(cpu.phantom_registrations, gpu.phantom_registrations);
   EXPECT_EQ(cpu.duplicate_registrations_removed, gpu.duplicate_registrations_removed);
   EXPECT_EQ(cpu.tests, gpu.tests);
+  EXPECT_EQ(cpu.culled_by_boxes, gpu.culled_by_boxes);
   EXPECT_EQ(cpu.same_root_tests, gpu.same_root_tests);
   EXPECT_EQ(cpu.removed_by_time_slots, gpu.removed_by_time_slots);
   EXPECT_EQ(cpu.removed_by_control_bits, gpu.removed_by_control_bits);

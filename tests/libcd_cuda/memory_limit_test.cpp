@@ -57,6 +57,7 @@ Candidates detect(CudaBroadPhase& broad, const ClothBallStep& step) {
 
 void expect_same_counts(const BroadPhaseStats& one, const BroadPhaseStats& chunked, const std::string& where) {
   EXPECT_EQ(one.tests, chunked.tests) << where;
+  EXPECT_EQ(one.culled_by_boxes, chunked.culled_by_boxes) << where;
   EXPECT_EQ(one.same_root_tests, chunked.same_root_tests) << where;
   EXPECT_EQ(one.removed_by_time_slots, chunked.removed_by_time_slots) << where;
   EXPECT_EQ(one.removed_by_control_bits, chunked.removed_by_control_bits) << where;

@@ -26,6 +26,7 @@ json broad_json(const BroadPhaseStats& s) {
           {"phantom_registrations", s.phantom_registrations},
           {"duplicate_registrations_removed", s.duplicate_registrations_removed},
           {"tests", s.tests},
+          {"culled_by_boxes", s.culled_by_boxes},
           {"removed_by_control_bits", s.removed_by_control_bits},
           {"removed_by_extended_control_bits", s.removed_by_extended_control_bits},
           {"tests_after_control_bits", s.tests_after_control_bits},

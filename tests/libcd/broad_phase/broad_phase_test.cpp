@@ -133,6 +133,12 @@ void check_ccd_against_oracles(const Soup& soup, const BroadPhaseSettings& setti
   EXPECT_GT(vss.stats().triangles_subdivided, 0u);
   EXPECT_EQ(largest.stats().triangles_subdivided, 0u);
   EXPECT_LE(vss.stats().triangle_pairs + vss.stats().duplicate_root_pair_tests, vss.stats().tests_after_control_bits);
+  // Every test is counted once: its roots' boxes apart, or one rule, or past the rules.
+  const BroadPhaseStats& s = vss.stats();
+  EXPECT_EQ(s.tests, s.culled_by_boxes + s.same_root_tests + s.removed_by_time_slots + s.removed_by_control_bits +
+                         s.removed_by_extended_control_bits + s.tests_after_control_bits);
+  EXPECT_GT(s.culled_by_boxes, 0u);
+  EXPECT_EQ(s.tests_after_control_bits - s.culled_by_dop, s.triangle_pairs + s.duplicate_root_pair_tests);
 }
 
 TEST(VirtualSubdivisionGrid, CcdContainsLeafOracleOnUnevenMovingSoups) {
