@@ -255,7 +255,9 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
   auto t = Clock::now();
   bounds_ = compute_primitive_bounds(scene, x_t0, x_t1, settings_.thickness);
   root_boxes_.resize(bounds_.triangles.size());
-  for (std::size_t f = 0; f < root_boxes_.size(); ++f) root_boxes_[f] = float_box_of(bounds_.triangles[f]);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_boxes_.size(), 4096), [&](const auto& range) {
+    for (std::size_t f = range.begin(); f != range.end(); ++f) root_boxes_[f] = float_box_of(bounds_.triangles[f]);
+  });
   stats_.seconds_bounds = seconds_since(t);
 
   // 2. Cell size and grid; 3. virtual subdivision.
