@@ -2,6 +2,9 @@
 // GPU: the CUDA twin of libcd/culling/representative_triangles.cpp.
 // Curtis, Tamstorf, Manocha, "Fast collision detection for deformable models
 // using representative-triangles", I3D 2008; Klosowski et al. 1998 (k-DOPs).
+// The screen's early exits with their loops unrolled (see
+// libcd/narrow_phase/ccd_separating_direction.hpp).
+#define SNAG_CCD_UNROLL_SEPARATION 1
 #include "libcd/cuda/representative_triangles.cuh"
 
 #include <cub/block/block_scan.cuh>
@@ -204,24 +207,33 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
 }
 
 /// The screen (FeatureScreen) of the feature pairs count_kernel kept of
-/// triangle pair p < n: the early exits run on each, and those they decide
+/// triangle pairs p < n: the early exits run on each, and those they decide
 /// kNo leave kept[p], tally[p] is counted again, and counters[2]
 /// (vertex-face) and counters[3] (edge-edge) count them. With
 /// screen.only_above, the whole grid returns at once when count_kernel's
 /// sums (counters[4], [5]) are each at most that many and together at most
 /// part_step (one part): the decision is taken on the device, so that the
-/// host need not wait for the counts first. A block lists its
-/// pairs' vertex-face pairs, then their edge-edge pairs, in shared memory,
-/// and screens them a thread each. A thread that looped over its own pair's
-/// bits held its warp for its neighbours' longest list, through both kinds'
-/// code (×16: about four times as long); a warp that listed only its own
-/// pairs' ran shorter rounds (×16: 28 ms a step, against 20 for the narrow
-/// phase's early-exit kernels before; 3 ms a step slower than this end to
-/// end, H200). A kernel of its own: the
-/// early exits need more registers than count_kernel's bound leaves (inside
-/// it they spilled some 19 kB); 128 a thread, as the narrow phase's
-/// early-exit kernel.
+/// host need not wait for the counts first. A block takes kScreenPairs
+/// pairs (kScreenPairsPerThread a thread, a block's width apart), lists their
+/// vertex-face pairs, then their edge-edge pairs, in one list in shared
+/// memory, and screens the list a thread an item. The early exits' cost
+/// varies from item to item, and a block waits for its slowest warp at the
+/// barrier after the list: with 1.6 feature pairs a triangle pair (the
+/// refined cloths), a block of a thread a pair and a list of each kind
+/// spent a third of its warps' cycles there (×4, ncu). On ×4 (H200, ncu)
+/// the kernel took 3.35 ms so, 2.47 with this block and the early exits'
+/// products and sums contracted (libcd/cuda/CMakeLists.txt), 1.74 with
+/// their loops unrolled too (SNAG_CCD_UNROLL_SEPARATION). A thread that looped
+/// over its own pair's bits held its warp for its neighbours' longest list,
+/// through both kinds' code (×16: about four times as long). A kernel of its
+/// own: the early exits need more registers than count_kernel's bound
+/// leaves (inside it they spilled some 19 kB); 128 a thread, as the narrow
+/// phase's early-exit kernel.
 constexpr unsigned kScreenBlock = 256;
+constexpr unsigned kScreenPairsPerThread = 4;
+constexpr unsigned kScreenPairs = kScreenBlock * kScreenPairsPerThread;
+static_assert(kScreenPairs <= (1u << 12) && kMostCandidatesPerPair <= 16,
+              "a list item is a pair's slot above its bit in 16 bits");
 __global__ void __launch_bounds__(kScreenBlock, 2)
     screen_kernel(FeatureInputs in, FeatureScreen screen, std::uint64_t part_step, std::size_t n,
                   FeatureTally* tally, std::uint16_t* kept, unsigned long long* counters) {
@@ -231,44 +243,67 @@ __global__ void __launch_bounds__(kScreenBlock, 2)
   }
   using Scan = cub::BlockScan<unsigned, kScreenBlock>;
   __shared__ typename Scan::TempStorage scan_storage;
-  __shared__ Index sides[kScreenBlock][2];
-  __shared__ unsigned cleared[kScreenBlock];  // the bits each thread's pair loses
-  // A kind's items: the thread's slot in the block above its bit (0..8).
-  __shared__ std::uint16_t items[kScreenBlock * 9];
-  const std::uint64_t p = thread_item();
-  const unsigned bits = p < n ? kept[p] : 0u;
-  if (__syncthreads_or(bits != 0) == 0) return;  // the whole block
-  if (bits != 0) {
-    sides[threadIdx.x][0] = in.pairs[p].a;
-    sides[threadIdx.x][1] = in.pairs[p].b;
-  }
-  cleared[threadIdx.x] = 0;
-  unsigned screened[2] = {0, 0};  // vertex-face, edge-edge
-  for (int edges = 0; edges < 2; ++edges) {
-    unsigned mine = edges ? bits >> 6 : bits & 63u, first = 0, total = 0;
-    Scan(scan_storage).ExclusiveSum(static_cast<unsigned>(__popc(mine)), first, total);
-    for (; mine != 0; mine &= mine - 1)
-      items[first++] = static_cast<std::uint16_t>(threadIdx.x << 4 | static_cast<unsigned>(__ffs(mine) - 1));
-    __syncthreads();  // the list is written (and scan_storage free again)
-    for (unsigned k = threadIdx.x; k < total; k += kScreenBlock) {
-      const unsigned slot = items[k] >> 4, bit = items[k] & 15u;
-      const Index a = sides[slot][0], b = sides[slot][1];
-      bool out = false;
-      if (!edges) {  // vertex i of side s against the other side's face
-        const unsigned s = bit / 3, i = bit % 3;
-        out = screened_out(in, screen, in.tris[s == 0 ? a : b][i], s == 0 ? b : a, false);
-      } else {  // edge i of side 0 against edge j of side 1
-        out = screened_out(in, screen, in.edge_ids[a][bit / 3], in.edge_ids[b][bit % 3], true);
-      }
-      if (out) {
-        atomicOr(&cleared[slot], 1u << (edges ? 6 + bit : bit));
-        ++screened[edges];
-      }
+  __shared__ Index sides[kScreenPairs][2];
+  __shared__ unsigned cleared[kScreenPairs];  // the bits each pair loses
+  // The items: a pair's slot in the block above its kept bit (0..14), the
+  // vertex-face pairs first.
+  __shared__ std::uint16_t items[kScreenPairs * kMostCandidatesPerPair];
+  const std::uint64_t first_pair = static_cast<std::uint64_t>(blockIdx.x) * kScreenPairs;
+  // A pair's kept bits, read again where needed: kept four a thread for the
+  // whole kernel they made the early exits spill.
+  auto kept_bits = [&](unsigned slot) { return first_pair + slot < n ? unsigned{kept[first_pair + slot]} : 0u; };
+  unsigned counts = 0;  // vertex-face below, edge-edge above bit 16 (at most 6 and 9 a pair)
+#pragma unroll
+  for (unsigned r = 0; r < kScreenPairsPerThread; ++r) {
+    const unsigned slot = r * kScreenBlock + threadIdx.x;
+    const unsigned bits = kept_bits(slot);
+    if (bits != 0) {
+      const TrianglePair pair = in.pairs[first_pair + slot];
+      sides[slot][0] = pair.a;
+      sides[slot][1] = pair.b;
     }
-    __syncthreads();  // the list is read
+    cleared[slot] = 0;
+    counts += static_cast<unsigned>(__popc(bits & 63u)) | static_cast<unsigned>(__popc(bits >> 6)) << 16;
   }
-  if (bits != 0) {
-    const unsigned left = bits & ~cleared[threadIdx.x];
+  unsigned first = 0, totals = 0;
+  Scan(scan_storage).ExclusiveSum(counts, first, totals);  // no carry: at most 6 · kScreenPairs below bit 16
+  if (totals == 0) return;  // the whole block
+  const unsigned vf_total = totals & 0xffffu, total = vf_total + (totals >> 16);
+  unsigned vf_at = first & 0xffffu, ee_at = vf_total + (first >> 16);
+#pragma unroll
+  for (unsigned r = 0; r < kScreenPairsPerThread; ++r) {
+    const unsigned slot = r * kScreenBlock + threadIdx.x, bits = kept_bits(slot);
+    for (unsigned mine = bits & 63u; mine != 0; mine &= mine - 1)
+      items[vf_at++] = static_cast<std::uint16_t>(slot << 4 | static_cast<unsigned>(__ffs(mine) - 1));
+    for (unsigned mine = bits >> 6; mine != 0; mine &= mine - 1)
+      items[ee_at++] = static_cast<std::uint16_t>(slot << 4 | static_cast<unsigned>(__ffs(mine) + 5));
+  }
+  __syncthreads();  // the list, the sides and the cleared bits are written
+  unsigned screened[2] = {0, 0};  // vertex-face, edge-edge
+  for (unsigned k = threadIdx.x; k < total; k += kScreenBlock) {
+    const unsigned slot = items[k] >> 4, bit = items[k] & 15u;
+    const Index a = sides[slot][0], b = sides[slot][1];
+    const bool edges = bit >= 6;
+    bool out = false;
+    if (!edges) {  // vertex i of side s against the other side's face
+      const unsigned s = bit / 3, i = bit % 3;
+      out = screened_out(in, screen, in.tris[s == 0 ? a : b][i], s == 0 ? b : a, false);
+    } else {  // edge i of side 0 against edge j of side 1
+      const unsigned e = bit - 6;
+      out = screened_out(in, screen, in.edge_ids[a][e / 3], in.edge_ids[b][e % 3], true);
+    }
+    if (out) {
+      atomicOr(&cleared[slot], 1u << bit);
+      ++screened[edges];
+    }
+  }
+  __syncthreads();  // the cleared bits are final
+#pragma unroll
+  for (unsigned r = 0; r < kScreenPairsPerThread; ++r) {
+    const unsigned slot = r * kScreenBlock + threadIdx.x, bits = kept_bits(slot);
+    if (bits == 0) continue;
+    const unsigned left = bits & ~cleared[slot];
+    const std::uint64_t p = first_pair + slot;
     kept[p] = static_cast<std::uint16_t>(left);
     tally[p] = {static_cast<std::uint64_t>(__popc(left & 63u)), static_cast<std::uint64_t>(__popc(left >> 6))};
   }
@@ -398,7 +433,7 @@ void representative_feature_pairs_on_device(
   // part (the usual case) is all the pairs, and needs no search.
   const std::uint64_t step = candidate_room - kMostCandidatesPerPair;
   if (screen != nullptr) {
-    screen_kernel<<<static_cast<unsigned>((n + kScreenBlock - 1) / kScreenBlock), kScreenBlock, 0, stream>>>(
+    screen_kernel<<<static_cast<unsigned>((n + kScreenPairs - 1) / kScreenPairs), kScreenBlock, 0, stream>>>(
         in, *screen, step, n, f.tally.data(), f.kept.data(), f.counters.data());
     SNAG_CUDA_CHECK_LAUNCH();
   }
