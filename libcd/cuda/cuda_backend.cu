@@ -608,10 +608,12 @@ class CudaBackend final : public Backend {
     };
     auto visit_chunk = [&](const DeviceCandidates& chunk) {
       const auto narrow_start = std::chrono::steady_clock::now();
-      narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd,
-                                 CcdPasses::kScreenOnly, events, flush_deferred);
-      edge_narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd,
-                                    CcdPasses::kScreenOnly, events, flush_deferred);
+      // Candidates the screen left need no early exits but the range check.
+      const CcdPasses passes = chunk.screened ? CcdPasses::kQuickAfterEarlyExits : CcdPasses::kScreenOnly;
+      narrow_.vertex_face_events(d_x_t0, d_x_t1, triangles_.data(), chunk.vf, chunk.vf_count, settings_.ccd, passes,
+                                 events, flush_deferred);
+      edge_narrow_.edge_edge_events(d_x_t0, d_x_t1, edges_.data(), chunk.ee, chunk.ee_count, settings_.ccd, passes,
+                                    events, flush_deferred);
       ++found.chunks;
       found.narrow_seconds += seconds_since(narrow_start);
     };

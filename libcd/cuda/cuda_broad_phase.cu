@@ -291,7 +291,7 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
           feature_seconds += seconds_between(features_start, features_done);
           ++last_parts_;
           const auto visit_start = std::chrono::steady_clock::now();
-          visit(DeviceCandidates{vf, vf_count, ee, ee_count, pairs, pair_count});
+          visit(DeviceCandidates{vf, vf_count, ee, ee_count, pairs, pair_count, b.features.screened});
           visit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - visit_start).count();
           DeviceMemoryTracker::set_stage("broad phase: features");
           features_start.record(stream);

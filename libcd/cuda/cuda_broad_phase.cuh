@@ -49,6 +49,9 @@ struct DeviceCandidates {
   std::size_t ee_count = 0;
   const TrianglePair* pairs = nullptr;      ///< unique triangle pairs (CCD and static)
   std::size_t pair_count = 0;
+  /// CCD with a screen (detect_ccd_on_device): the screen ran on this
+  /// chunk, so vf and ee are what the CCD early exits leave undecided or out of range.
+  bool screened = false;
 };
 
 /// Receives the candidates of one chunk; the device arrays are valid until it returns.

@@ -94,6 +94,12 @@ struct VertexFaceQuery {
     points(i, x);
     return vertex_face_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
+  // The early exits' range check alone.
+  __device__ bool range_exit(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
+    Vec3 x[8];
+    points(i, x);
+    return ccd_detail::range_exit(x, settings.thickness, result);
+  }
   __device__ Contact contact(std::uint32_t i) const {
     Contact contact;
     points(i, contact.points);
@@ -146,6 +152,11 @@ struct EdgeEdgeQuery {
     points(i, x);
     return edge_edge_early_exit(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], settings, result);
   }
+  __device__ bool range_exit(std::uint32_t i, const CcdSettings& settings, CcdResult* result) const {
+    Vec3 x[8];
+    points(i, x);
+    return ccd_detail::range_exit(x, settings.thickness, result);
+  }
   __device__ Contact contact(std::uint32_t i) const {
     Contact contact;
     points(i, contact.points);
@@ -177,15 +188,20 @@ struct EdgeEdgeQuery {
 };
 
 // The screen, step 1: thread i runs the early exits on candidate i and
-// writes its result and kScreenedNo, kScreenedHit or kUndecided.
+// writes its result and kScreenedNo, kScreenedHit or kUndecided. With
+// range_only, their range check alone, for candidates the other exits left
+// undecided already (CcdPasses::kQuickAfterEarlyExits), on which they would
+// run to the end for nothing (×4 on an H200: 57 and 106 µs, vertex-face and
+// edge-edge, against 32 and 85 for the range check).
 template <class Query>
 __global__ void __launch_bounds__(kBlockSize, 4)
-    ccd_early_exit_kernel(Query query, std::size_t count, CcdSettings settings, CcdResult* __restrict__ results,
-                          unsigned char* __restrict__ flags) {
+    ccd_early_exit_kernel(Query query, std::size_t count, CcdSettings settings, bool range_only,
+                          CcdResult* __restrict__ results, unsigned char* __restrict__ flags) {
   const std::size_t i = static_cast<std::size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
   if (i >= count) return;
   CcdResult result;
-  const bool decided = query.early_exit(static_cast<std::uint32_t>(i), settings, &result);
+  const auto k = static_cast<std::uint32_t>(i);
+  const bool decided = range_only ? query.range_exit(k, settings, &result) : query.early_exit(k, settings, &result);
   results[i] = result;
   flags[i] = !decided ? kUndecided : screened(result);
 }
@@ -586,8 +602,8 @@ void CudaNarrowPhase::run_ccd_chunk(const Query& query, std::size_t count, std::
   resize_or_throw(flags_, count, "CCD flags");
   start.record(stream_);
   if (screen) {
-    ccd_early_exit_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(query, count, settings, results_.data(),
-                                                                         flags_.data());
+    ccd_early_exit_kernel<<<blocks_for(count), kBlockSize, 0, stream_>>>(
+        query, count, settings, passes == CcdPasses::kQuickAfterEarlyExits, results_.data(), flags_.data());
     SNAG_CUDA_CHECK_LAUNCH();
     // The time search runs on the compacted survivors of the early exits, in
     // full warps, in slices: the isolated queries take the room the hits'

@@ -65,6 +65,10 @@ enum class CcdPasses {
   /// them (the CUDA back end does, on the CPU: they are a handful whose
   /// (t, u, v) search takes one GPU thread milliseconds).
   kScreenOnly,
+  /// As kScreenOnly, for candidates whose CCD early exits ran already and
+  /// left them undecided or out of range (the CUDA feature stage's screen,
+  /// FeatureScreen): of the early exits only the range check runs again.
+  kQuickAfterEarlyExits,
 };
 
 /// A candidate the filter did not rule out: its index in the candidate list
@@ -121,8 +125,8 @@ class CudaNarrowPhase {
   /// events on the device (event_fields.hpp, the formulas of the CPU's
   /// event_builder.hpp: frame 0, certainty kUncertain where the screen left
   /// the candidate undecided) and appended to `events` in candidate order:
-  /// only the events cross to the host. `passes` is kScreenOnly or
-  /// kSinglePass (std::invalid_argument otherwise). `while_busy`, when
+  /// only the events cross to the host. `passes` is kScreenOnly,
+  /// kQuickAfterEarlyExits or kSinglePass (std::invalid_argument otherwise). `while_busy`, when
   /// given, runs once on this thread while the device works on the first
   /// round, before the events this object holds deferred are flushed (a
   /// caller that flushes another object's deferred events there keeps their

@@ -439,8 +439,13 @@ void representative_feature_pairs_on_device(
   }
   exclusive_scan(f.tally.data(), f.tally.data(), n + 1, AddFeatureTallies{}, f.temp, stream);
   FeatureTally total;
-  unsigned long long sums[4] = {0, 0, 0, 0};  // before the DOPs, screened out (vertex-face, edge-edge)
-  ReadBack(stream).add(&total, f.tally.data() + n).add(sums, f.counters.data(), 4).wait();
+  // Before the DOPs, screened out, kept by the DOPs (vertex-face, edge-edge;
+  // the last two only where the screen decides whether it runs).
+  unsigned long long sums[6] = {0, 0, 0, 0, 0, 0};
+  ReadBack(stream).add(&total, f.tally.data() + n).add(sums, f.counters.data(), 6).wait();
+  // As screen_kernel decides it.
+  f.screened = screen != nullptr && !(decide_screen && sums[4] <= screen->only_above &&
+                                      sums[5] <= screen->only_above && sums[4] + sums[5] <= step);
   counts.vf_before += sums[0];
   counts.ee_before += sums[1];
   counts.vf_after += total.vf + sums[2];

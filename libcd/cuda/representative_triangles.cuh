@@ -53,6 +53,9 @@ struct DeviceFeatures {
   DeviceBuffer<unsigned long long> counters;
   DeviceBuffer<std::uint64_t> bounds;  ///< first pair, vf and ee offsets of each part
   DeviceBuffer<unsigned char> temp;
+  /// Whether the last call's screen ran: its candidates are then those the
+  /// early exits leave undecided or out of range.
+  bool screened = false;
 
   explicit DeviceFeatures(cudaStream_t stream)
       : tally(0, stream),
@@ -104,7 +107,8 @@ struct FeatureScreen {
 /// (vertex-face and edge-edge together), so that the stage's memory is bounded by the room; one part when they all fit.
 /// Adds the counts to `counts` (as the CPU's). With `screen`, only the
 /// candidates its early exits leave undecided (or out of range) are handed
-/// on; `counts` is as without it.
+/// on, and features.screened says so where the screen ran (screen.only_above);
+/// `counts` is as without it.
 /// @param bounds  the step's swept DOPs of triangles, edges and vertices and
 ///                their float boxes (a feature pair whose boxes are apart is
 ///                culled without reading its DOPs)

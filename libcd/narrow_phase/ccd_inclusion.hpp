@@ -179,6 +179,15 @@ SNAG_HD_INLINE bool inputs_in_range(const Vec3 points[8], double d) {
   return d >= 0 && d <= kMaxMagnitude;
 }
 
+/// The range check that comes first in the CCD early exits: true with
+/// *result kUncertain over [0, 1] when the inputs are out of range
+/// (inputs_in_range), else false.
+SNAG_HD_INLINE bool range_exit(const Vec3 points[8], double d, CcdResult* result) {
+  if (inputs_in_range(points, d)) return false;
+  *result = make_result(CcdAnswer::kUncertain, 0, 1);
+  return true;
+}
+
 /// The rounding bound E_k of a corner value of the contact function over
 /// these 8 points (see the file comment, steps 1 to 3). The points must
 /// satisfy inputs_in_range.

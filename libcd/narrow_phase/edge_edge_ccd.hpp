@@ -118,10 +118,7 @@ SNAG_HD_INLINE bool edge_edge_early_exit(const Vec3& ea0_t0, const Vec3& ea1_t0,
                                          const Vec3& eb0_t1, const Vec3& eb1_t1, const CcdSettings& settings,
                                          CcdResult* result) {
   const Vec3 points[8] = {ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1};
-  if (!ccd_detail::inputs_in_range(points, settings.thickness)) {
-    *result = ccd_detail::make_result(CcdAnswer::kUncertain, 0, 1);
-    return true;
-  }
+  if (ccd_detail::range_exit(points, settings.thickness, result)) return true;
   if (!edge_edge_swept_overlap(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, settings.thickness) ||
       (settings.thickness == 0 && coplanarity_keeps_sign(ea0_t0, eb0_t0, ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1,
                                                          eb0_t1, ea0_t1, ea1_t1, eb0_t1, eb1_t1)) ||

@@ -115,10 +115,7 @@ SNAG_HD_INLINE bool vertex_face_early_exit(const Vec3& p_t0, const Vec3& a_t0, c
                                            const Vec3& p_t1, const Vec3& a_t1, const Vec3& b_t1, const Vec3& c_t1,
                                            const CcdSettings& settings, CcdResult* result) {
   const Vec3 points[8] = {p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1};
-  if (!ccd_detail::inputs_in_range(points, settings.thickness)) {
-    *result = ccd_detail::make_result(CcdAnswer::kUncertain, 0, 1);
-    return true;
-  }
+  if (ccd_detail::range_exit(points, settings.thickness, result)) return true;
   if (!vertex_face_swept_overlap(p_t0, a_t0, b_t0, c_t0, p_t1, a_t1, b_t1, c_t1, settings.thickness) ||
       (settings.thickness == 0 &&
        coplanarity_keeps_sign(a_t0, p_t0, a_t0, b_t0, a_t0, c_t0, a_t1, p_t1, a_t1, b_t1, a_t1, c_t1)) ||

@@ -446,7 +446,7 @@ std::vector<Candidate> left_by_early_exits(const Scene& scene, const Soup& soup,
 // thickness 0 and above it, in one part of the feature stage and in many.
 // With a threshold (screen_above), a detection in one part whose candidates
 // of each kind are at most that many is not screened, and one with more of
-// either kind, or in many parts, is.
+// either kind, or in many parts, is; each part says which (screened).
 TEST_F(CudaBroadPhaseTest, ScreenedCandidatesAreThoseTheEarlyExitsLeave) {
   const Soup soup = random_soup(21, 4000, true);
   DeviceBuffer<Vec3> x_t0(0), x_t1(0);
@@ -467,14 +467,18 @@ TEST_F(CudaBroadPhaseTest, ScreenedCandidatesAreThoseTheEarlyExitsLeave) {
       std::vector<EdgeEdgeCandidate> ee, ee_screened;
       gpu->detect_ccd(soup.x_t0, soup.x_t1, vf, ee);
       const BroadPhaseStats unscreened = gpu->stats();
+      std::size_t parts = 0, parts_screened = 0;  // the parts that say the screen ran
       auto detect_screened = [&](std::size_t screen_above) {
         vf_screened.clear();
         ee_screened.clear();
+        parts = parts_screened = 0;
         gpu->detect_ccd_on_device(
             x_t0.data(), x_t1.data(), nullptr,
             [&](const DeviceCandidates& part) {
               append_from_device(part.vf, part.vf_count, vf_screened);
               append_from_device(part.ee, part.ee_count, ee_screened);
+              ++parts;
+              parts_screened += part.screened;
             },
             /*sorted=*/true, &settings, screen_above);
         std::sort(vf_screened.begin(), vf_screened.end());
@@ -495,11 +499,13 @@ TEST_F(CudaBroadPhaseTest, ScreenedCandidatesAreThoseTheEarlyExitsLeave) {
         const bool screens = candidate_room > 0 || most > screen_above;
         EXPECT_EQ(vf_screened, screens ? vf_left : vf) << where << ", screen above " << screen_above;
         EXPECT_EQ(ee_screened, screens ? ee_left : ee) << where << ", screen above " << screen_above;
+        EXPECT_EQ(parts_screened, screens ? parts : 0u) << where << ", screen above " << screen_above;
         EXPECT_EQ(gpu->stats().candidates, unscreened.candidates) << where << ", screen above " << screen_above;
       }
       detect_screened(0);
       EXPECT_EQ(vf_screened, vf_left) << where;
       EXPECT_EQ(ee_screened, ee_left) << where;
+      EXPECT_EQ(parts_screened, parts) << where;
       if (candidate_room > 0) EXPECT_GT(gpu->last_feature_parts(), 10u) << where;
       const BroadPhaseStats& screened = gpu->stats();
       EXPECT_EQ(screened.vf_before_culling, unscreened.vf_before_culling) << where;

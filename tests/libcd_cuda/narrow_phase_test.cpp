@@ -16,6 +16,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -220,6 +221,57 @@ TEST_F(NarrowPhaseCcdQueries, ScreenOnlyLeavesTheUndecidedToTheCaller) {
   EXPECT_GT(undecided, 0u) << "the hard queries must leave some undecided";
   expect_same_as_cpu(batch.vf_queries, vf_hits, settings, "screen only");
   expect_same_as_cpu(batch.ee_queries, ee_hits, settings, "screen only");
+}
+
+/// Whether the host's CCD early exits decide a query (the range check included).
+bool early_exits_decide(const io::CcdQuery& q, const CcdSettings& settings) {
+  const auto& p = q.points;
+  CcdResult result;
+  return q.is_edge_edge ? edge_edge_early_exit(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings, &result)
+                        : vertex_face_early_exit(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings, &result);
+}
+
+// kQuickAfterEarlyExits on the candidates the early exits leave (the
+// feature stage's screen hands on those): the hits of kScreenOnly, answers
+// and times bit for bit, an out-of-range query's kUncertain included; on
+// the same queries the early exits themselves never run.
+TEST_F(NarrowPhaseCcdQueries, QuickAfterEarlyExitsIsTheScreenOnWhatTheyLeave) {
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  const CcdSettings settings;
+  std::vector<io::CcdQuery> left;
+  for (const io::CcdQuery& q : queries)
+    if (!early_exits_decide(q, settings)) left.push_back(q);
+  ASSERT_GT(left.size(), 100u);
+  ASSERT_LT(left.size(), queries.size());
+  for (const bool edge_edge : {false, true}) {  // one of each kind out of range
+    io::CcdQuery far = *std::find_if(left.begin(), left.end(),
+                                     [&](const io::CcdQuery& q) { return q.is_edge_edge == edge_edge; });
+    far.points[5].y = 1e61;
+    ASSERT_TRUE(early_exits_decide(far, settings));
+    left.push_back(far);
+  }
+  const QueryBatch batch = make_batch(left);
+  const DeviceBatch device(batch);
+  CudaNarrowPhase narrow(nullptr);
+  std::vector<CcdHit> vf_screen, ee_screen, vf_quick, ee_quick;
+  device.find_hits(narrow, settings, CcdPasses::kScreenOnly, vf_screen, ee_screen);
+  device.find_hits(narrow, settings, CcdPasses::kQuickAfterEarlyExits, vf_quick, ee_quick);
+  for (const auto& [screen, quick, kind] : {std::tuple{&vf_screen, &vf_quick, "vertex-face"},
+                                            std::tuple{&ee_screen, &ee_quick, "edge-edge"}}) {
+    ASSERT_EQ(quick->size(), screen->size()) << kind;
+    ASSERT_GT(screen->size(), 1u) << kind;
+    for (std::size_t k = 0; k < screen->size(); ++k) {
+      const CcdHit &a = (*screen)[k], &b = (*quick)[k];
+      EXPECT_EQ(b.candidate, a.candidate) << kind;
+      EXPECT_EQ(b.result.answer, a.result.answer) << kind << " hit " << k;
+      EXPECT_TRUE(same_bits(b.result.toi_lo, a.result.toi_lo) && same_bits(b.result.toi_hi, a.result.toi_hi))
+          << kind << " hit " << k;
+    }
+    // The out-of-range query is the last candidate of its kind: kUncertain over the step.
+    EXPECT_EQ(quick->back().result.answer, CcdAnswer::kUncertain) << kind;
+    EXPECT_EQ(quick->back().result.toi_lo, 0.0) << kind;
+    EXPECT_EQ(quick->back().result.toi_hi, 1.0) << kind;
+  }
 }
 
 TEST_F(NarrowPhaseCcdQueries, MatchesCpuWithThickness) {
