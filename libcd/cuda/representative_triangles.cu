@@ -237,10 +237,7 @@ static_assert(kScreenPairs <= (1u << 12) && kMostCandidatesPerPair <= 16,
 __global__ void __launch_bounds__(kScreenBlock, 2)
     screen_kernel(FeatureInputs in, FeatureScreen screen, std::uint64_t part_step, std::size_t n,
                   FeatureTally* tally, std::uint16_t* kept, unsigned long long* counters) {
-  if (screen.only_above > 0) {  // the same answer on every thread
-    const unsigned long long vf = counters[4], ee = counters[5];
-    if (vf <= screen.only_above && ee <= screen.only_above && vf + ee <= part_step) return;
-  }
+  if (!screen.runs(counters[4], counters[5], part_step)) return;  // the same answer on every thread
   using Scan = cub::BlockScan<unsigned, kScreenBlock>;
   __shared__ typename Scan::TempStorage scan_storage;
   __shared__ Index sides[kScreenPairs][2];
@@ -443,9 +440,7 @@ void representative_feature_pairs_on_device(
   // the last two only where the screen decides whether it runs).
   unsigned long long sums[6] = {0, 0, 0, 0, 0, 0};
   ReadBack(stream).add(&total, f.tally.data() + n).add(sums, f.counters.data(), 6).wait();
-  // As screen_kernel decides it.
-  f.screened = screen != nullptr && !(decide_screen && sums[4] <= screen->only_above &&
-                                      sums[5] <= screen->only_above && sums[4] + sums[5] <= step);
+  f.screened = screen != nullptr && screen->runs(sums[4], sums[5], step);
   counts.vf_before += sums[0];
   counts.ee_before += sums[1];
   counts.vf_after += total.vf + sums[2];

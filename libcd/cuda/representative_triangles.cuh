@@ -96,6 +96,14 @@ struct FeatureScreen {
   /// thread a triangle pair (cloth_ball: 3.8 M candidates, 2.9 M pairs).
   /// The counts are taken and read on the device: the host does not wait.
   std::uint64_t only_above = 0;
+
+  /// Whether the screen runs on a call whose DOP-kept candidates number vf
+  /// and ee (vertex-face, edge-edge), in parts of part_step: the one rule,
+  /// for the kernel that decides on the device and the host that reads the
+  /// counts after it.
+  __host__ __device__ bool runs(unsigned long long vf, unsigned long long ee, std::uint64_t part_step) const {
+    return only_above == 0 || vf > only_above || ee > only_above || vf + ee > part_step;
+  }
 };
 
 /// Representative feature pairs of pair_count unique device triangle pairs,

@@ -233,8 +233,7 @@ bool early_exits_decide(const io::CcdQuery& q, const CcdSettings& settings) {
 
 // kQuickAfterEarlyExits on the candidates the early exits leave (the
 // feature stage's screen hands on those): the hits of kScreenOnly, answers
-// and times bit for bit, an out-of-range query's kUncertain included; on
-// the same queries the early exits themselves never run.
+// and times bit for bit, an out-of-range query's kUncertain included.
 TEST_F(NarrowPhaseCcdQueries, QuickAfterEarlyExitsIsTheScreenOnWhatTheyLeave) {
   const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
   const CcdSettings settings;
