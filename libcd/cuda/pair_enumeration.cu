@@ -139,6 +139,18 @@ constexpr std::uint64_t kTileRun = 4;
 /// 1.18, H200.)
 constexpr unsigned kTestBlock = 128;
 
+/// Tiles of at least this many slots (rows × columns) run their tests a row
+/// a thread; smaller ones (few rows: a cell's last row tile, small cells) in
+/// rounds of a test a thread, which leave no thread idle. (512, 1024 and
+/// 2048 measured the same on cloth_ball and its refinements, H200: the
+/// large tiles hold nearly all the tests.)
+constexpr unsigned kRowLoopTests = 2048;
+
+/// The test kernel's resident blocks a multiprocessor: its launch bound, 56
+/// registers a thread, none spilled. (×4, H200: 2.43 ms at the 64 it takes
+/// unbounded, 47% of the warps active, 2.36 ms at 56, 52%.)
+constexpr int kTestBlocksPerSm = 9;
+
 /// A registered leaf as a tile of one cell holds it: its root, its time slot
 /// and its cells as masks around the tile's cell (LocalCells).
 struct UniformTileMember {
@@ -184,7 +196,10 @@ struct UniformTileCells {
     return cell_pair_verdict(a.cells, b.cells);
   }
   __device__ bool leaves_overlap(const TileMember&, const TileMember&) const { return true; }
-  /// A pass's rows hold only its tests (chunk_tests_kernel).
+  /// A pass's rows hold only its tests (chunk_tests_kernel): a cell's
+  /// members ascend by root, so a row's root is the smaller of each of its
+  /// tests' and lies in the pass's range.
+  static constexpr bool kRowsInRange = true;
   __device__ bool tile_may_hold(std::uint64_t, const PairTile&, std::uint32_t, std::uint32_t) const { return true; }
 };
 
@@ -223,6 +238,8 @@ struct AdaptiveTileCells {
   __device__ bool leaves_overlap(const Member& a, const Member& b) const {
     return leaf_boxes_may_overlap(a, b) && dop_overlap(leaf_dops[a.leaf], leaf_dops[b.leaf]);
   }
+  /// Stuck members' rows meet pushed members of any root.
+  static constexpr bool kRowsInRange = false;
   /// False when no test of the tile of cell c has its smaller root in [lo,
   /// hi). A cell's stuck and pushed members each ascend by root, so the rows
   /// (stuck) and the columns (one run or two) span known roots, and the
@@ -266,7 +283,8 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// (grid/pair_index.hpp), finds a tile's cell by a galloping search from its
 /// last one (the block's tiles ascend), reads the tile's rows and columns
 /// and their roots' float boxes into shared memory, and its threads run the
-/// tile's tests, row by row, with the CPU's filters in the CPU's order
+/// tile's tests (a large tile a row a thread, a small one in rounds of a test
+/// a thread), with the CPU's filters in the CPU's order
 /// (broad_phase/virtual_subdivision_grid.cpp): the roots' float boxes first,
 /// then same root, time slots and the cell's rule (Cells: UniformTileCells,
 /// AdaptiveTileCells), then the roots' DOPs (the boxes' and the DOPs' test
@@ -288,7 +306,7 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// with one atomic per warp and round). Every thread of the block runs every
 /// round of a tile, so warp-wide operations see full warps.
 template <class Cells>
-__global__ void __launch_bounds__(kTestBlock)
+__global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
     test_kernel(const std::uint64_t* first_tile, std::size_t cells, const std::uint64_t* row_begin,
                 const std::uint64_t* row_end, Cells source, const Dop18* triangle_dops, const FloatBox* triangle_boxes,
                 std::uint32_t range_first, std::uint32_t range_end, std::uint32_t bucket_width, int key_bits,
@@ -445,7 +463,49 @@ __global__ void __launch_bounds__(kTestBlock)
       detail::warp_list_push(meet, static_cast<std::uint16_t>((row << 6) | column), meeting, meeting_count);
       if (meeting_count >= 32) decide_meeting(32);
     };
-    if (offset >= static_cast<std::int64_t>(row_count)) {
+    if (row_count * column_count >= kRowLoopTests) {
+      // Large tiles a row a thread: thread t takes row t % 64 against the
+      // columns [32 h, 32 h + 32) of its half h = t / 64, its row's root and
+      // box held in registers, each column's read by the whole warp at once
+      // (one shared-memory broadcast), its tests' meetings gathered in a
+      // mask and appended to the warp's list after the loop. A test costs a
+      // few instructions here, against the rounds' stepping, ballot and list
+      // append per test below. (test_kernel, H200: cloth_ball ×4 2.98 ->
+      // 2.26 ms, 2.03e9 -> 1.24e9 instructions; cloth_ball 551 -> 480 µs.)
+      static_assert(kTestBlock == 2 * kPairTileSide && kPairTileSide == 64, "a tile's rows by two halves of 32 columns");
+      const unsigned row = threadIdx.x % kPairTileSide, half = threadIdx.x / kPairTileSide;
+      const unsigned warp_row = row & ~31u;  // the warp's first row
+      // Row r's tests are the columns q > r + d in a diagonal tile (offset =
+      // -d <= 0), every column otherwise.
+      const bool diagonal = offset < static_cast<std::int64_t>(row_count);
+      const unsigned after = diagonal ? static_cast<unsigned>(1 - offset) : 0;  // the columns from row + after on
+      const unsigned lane_first = diagonal ? after + row : 0;
+      const unsigned column_begin = 32 * half, column_end = ::min(column_count, column_begin + 32);
+      std::uint32_t meets = 0;
+      if (warp_row < row_count) {  // the same on every lane of the warp
+        const bool has_row = row < row_count;
+        const Index ra = rows.members[has_row ? row : 0].root;
+        const FloatBox box = rows.boxes[has_row ? row : 0];
+        // Below the warp's first row's first column no lane has a test.
+        for (unsigned column = ::max(column_begin, diagonal ? after + warp_row : 0u); column < column_end; ++column) {
+          const Index rb = columns.members[column].root;
+          const Index low = ra < rb ? ra : rb;
+          if (has_row && column >= lane_first && (Cells::kRowsInRange || (low >= range_first && low < range_end))) {
+            const bool meet = float_boxes_may_overlap(box, columns.boxes[column]);
+            boxes_apart += meet ? 0 : 1;
+            meets |= static_cast<std::uint32_t>(meet) << (column - column_begin);
+          }
+        }
+      }
+      // Every lane of the block runs these rounds (their count is the warp's).
+      while (__any_sync(0xffffffffu, meets != 0)) {
+        const bool take = meets != 0;
+        const unsigned column = column_begin + static_cast<unsigned>(__ffs(meets)) - 1;
+        meets &= meets - 1;
+        detail::warp_list_push(take, static_cast<std::uint16_t>((row << 6) | column), meeting, meeting_count);
+        if (meeting_count >= 32) decide_meeting(32);
+      }
+    } else if (offset >= static_cast<std::int64_t>(row_count)) {
       // Every column after every row: slot s = row * column_count + column,
       // each a test; each round moves it on by the block's size, stepped
       // without dividing.
