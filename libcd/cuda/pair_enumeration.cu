@@ -447,18 +447,22 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
       if (waiting_count >= 32) test_waiting(32);
       record_cull(cull, key);
     };
+    // The first filter of the test of a row (root ra, float box `box`)
+    // against `column`: whether it is this pass's test (its smaller root in
+    // the range, as in every test of the uniform cells' rows) and the roots'
+    // float boxes meet. The tests whose boxes are apart are counted.
+    auto boxes_meet = [&](Index ra, const FloatBox& box, unsigned column) {
+      const Index rb = columns.members[column].root;
+      const Index low = ra < rb ? ra : rb;
+      if (!Cells::kRowsInRange && (low < range_first || low >= range_end)) return false;  // another chunk's test
+      const bool meet = float_boxes_may_overlap(box, columns.boxes[column]);
+      boxes_apart += meet ? 0 : 1;
+      return meet;
+    };
     // One test of the tile; every thread of the block calls it once per
     // round, with `valid` set where it has a test.
     auto run_test = [&](bool valid, unsigned row, unsigned column) {
-      bool meet = false;
-      if (valid) {
-        const Index ra = rows.members[row].root, rb = columns.members[column].root;
-        const Index low = ra < rb ? ra : rb;
-        if (low >= range_first && low < range_end) {  // else another chunk's test
-          meet = float_boxes_may_overlap(rows.boxes[row], columns.boxes[column]);
-          boxes_apart += meet ? 0 : 1;
-        }
-      }
+      const bool meet = valid && boxes_meet(rows.members[row].root, rows.boxes[row], column);
       static_assert(kPairTileSide <= 64, "a tile's (row, column) is packed in 12 bits");
       detail::warp_list_push(meet, static_cast<std::uint16_t>((row << 6) | column), meeting, meeting_count);
       if (meeting_count >= 32) decide_meeting(32);
@@ -488,13 +492,8 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
         const FloatBox box = rows.boxes[has_row ? row : 0];
         // Below the warp's first row's first column no lane has a test.
         for (unsigned column = ::max(column_begin, diagonal ? after + warp_row : 0u); column < column_end; ++column) {
-          const Index rb = columns.members[column].root;
-          const Index low = ra < rb ? ra : rb;
-          if (has_row && column >= lane_first && (Cells::kRowsInRange || (low >= range_first && low < range_end))) {
-            const bool meet = float_boxes_may_overlap(box, columns.boxes[column]);
-            boxes_apart += meet ? 0 : 1;
-            meets |= static_cast<std::uint32_t>(meet) << (column - column_begin);
-          }
+          if (has_row && column >= lane_first)
+            meets |= static_cast<std::uint32_t>(boxes_meet(ra, box, column)) << (column - column_begin);
         }
       }
       // Every lane of the block runs these rounds (their count is the warp's).
