@@ -96,6 +96,7 @@ struct NarrowPhaseTimings {
   float static_ms = 0;   ///< triangle-pair tests
   std::size_t searched = 0;  ///< candidates that reached the search pass
   std::size_t rounds = 0;    ///< CCD rounds (set_chunk_size) the calls ran in
+  std::size_t time_searches = 0;  ///< launches of the screen's time search (one or more a round)
 };
 
 /// Owns the device buffers of the narrow phase; reused from call to call.
@@ -203,7 +204,9 @@ class CudaNarrowPhase {
   /// flag, index, compacted result, gathered candidate) and per static pair
   /// (flag, index, gathered pair), scratch included. Events built on the
   /// device take the room of the compacted result and gathered candidate (or
-  /// pair) instead: they are built in slices that fit it.
+  /// pair) instead: they are built in slices that fit it. The screen's time
+  /// search lists the queries it isolates in that room, or in what a round
+  /// of fewer than chunk_size() candidates leaves of the round's room.
   static constexpr std::size_t kCcdBytesPerCandidate = 64;
   static constexpr std::size_t kStaticBytesPerPair = 16;
 
@@ -269,6 +272,10 @@ class CudaNarrowPhase {
   /// gathered_ as room for `count` items of type T.
   template <class T>
   T* gathered_as(std::size_t count, const char* what);
+  /// How many isolated queries the time search of a round of `count`
+  /// candidates may list in gathered_ (see run_ccd_chunk); gathered_ is
+  /// given back first when it holds more than that room.
+  std::size_t isolated_room(std::size_t count);
 
   cudaStream_t stream_;
   DeviceBuffer<CcdResult> results_, searched_results_;

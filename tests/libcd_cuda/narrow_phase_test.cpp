@@ -231,15 +231,22 @@ bool early_exits_decide(const io::CcdQuery& q, const CcdSettings& settings) {
                         : vertex_face_early_exit(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], settings, &result);
 }
 
+/// The CCD queries whose early exits (the host's) decide nothing.
+std::vector<io::CcdQuery> queries_the_early_exits_leave(const std::vector<io::CcdQuery>& queries,
+                                                        const CcdSettings& settings) {
+  std::vector<io::CcdQuery> left;
+  for (const io::CcdQuery& q : queries)
+    if (!early_exits_decide(q, settings)) left.push_back(q);
+  return left;
+}
+
 // kQuickAfterEarlyExits on the candidates the early exits leave (the
 // feature stage's screen hands on those): the hits of kScreenOnly, answers
 // and times bit for bit, an out-of-range query's kUncertain included.
 TEST_F(NarrowPhaseCcdQueries, QuickAfterEarlyExitsIsTheScreenOnWhatTheyLeave) {
   const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
   const CcdSettings settings;
-  std::vector<io::CcdQuery> left;
-  for (const io::CcdQuery& q : queries)
-    if (!early_exits_decide(q, settings)) left.push_back(q);
+  std::vector<io::CcdQuery> left = queries_the_early_exits_leave(queries, settings);
   ASSERT_GT(left.size(), 100u);
   ASSERT_LT(left.size(), queries.size());
   for (const bool edge_edge : {false, true}) {  // one of each kind out of range
@@ -270,6 +277,40 @@ TEST_F(NarrowPhaseCcdQueries, QuickAfterEarlyExitsIsTheScreenOnWhatTheyLeave) {
     EXPECT_EQ(quick->back().result.answer, CcdAnswer::kUncertain) << kind;
     EXPECT_EQ(quick->back().result.toi_lo, 0.0) << kind;
     EXPECT_EQ(quick->back().result.toi_hi, 1.0) << kind;
+  }
+}
+
+// The time search's isolated queries take the room the round leaves: with a
+// round's room for many more candidates than it has (the default chunk size),
+// it searches them in one launch once the last round's survivors sized the
+// first; in rounds of a budget just their size, in slices of the room of the
+// hits' events (a third of the candidates). Both give the CPU's answers.
+TEST_F(NarrowPhaseCcdQueries, TimeSearchTakesTheRoomTheRoundLeaves) {
+  const std::vector<io::CcdQuery> queries = io::read_ccd_query_tree(test::shared_data_dir() + "/ccd-queries");
+  const CcdSettings settings;
+  const std::vector<io::CcdQuery> left = queries_the_early_exits_leave(queries, settings);
+  const QueryBatch batch = make_batch(left);  // points into `left`
+  ASSERT_GT(std::min(batch.vf.size(), batch.ee.size()), 100u);
+  const DeviceBatch device(batch);
+  for (const bool tight : {false, true}) {
+    const char* schedule = tight ? "rounds of a tight budget" : "a roomy round";
+    CudaNarrowPhase narrow(nullptr);
+    if (tight) narrow.set_chunk_size(std::min(batch.vf.size(), batch.ee.size()));
+    std::vector<CcdHit> vf_first, ee_first, vf_hits, ee_hits;
+    device.find_hits(narrow, settings, CcdPasses::kQuickAfterEarlyExits, vf_first, ee_first);
+    narrow.reset_timings();
+    device.find_hits(narrow, settings, CcdPasses::kQuickAfterEarlyExits, vf_hits, ee_hits);
+    const NarrowPhaseTimings& timings = narrow.timings();
+    if (tight) {
+      EXPECT_GE(timings.time_searches, timings.rounds + 2) << schedule;  // 3 in the round its candidates fill
+    } else {
+      EXPECT_EQ(timings.rounds, 2u) << schedule;
+      EXPECT_EQ(timings.time_searches, 2u) << schedule;
+    }
+    finish_on_cpu(batch.vf_queries, settings, vf_hits);
+    finish_on_cpu(batch.ee_queries, settings, ee_hits);
+    expect_same_as_cpu(batch.vf_queries, vf_hits, settings, schedule);
+    expect_same_as_cpu(batch.ee_queries, ee_hits, settings, schedule);
   }
 }
 
