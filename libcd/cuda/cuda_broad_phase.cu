@@ -200,8 +200,8 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // registration's scratch are given back now.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   if (!adaptive_)
-    order_registrations_on_device(b.subdivision.leaves.data(), triangle_count, b.cells, b.pairs, stream,
-                                  budget_check("copy of the leaves for the pair tests"));
+    order_registrations_on_device(b.subdivision.leaves.data(), triangle_count, b.bounds.triangle_boxes.data(),
+                                  b.cells, grid, b.pairs, stream, budget_check("copy of the leaves for the pair tests"));
   if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
 
   // The chunks' room: what the budget leaves beside the buffers the chunks do
@@ -394,7 +394,8 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   add("adaptive: fine blocks and leaf DOPs", a.blocks.capacity_bytes() + a.leaf_dops.capacity_bytes());
   add("adaptive: test cells and members", a.cells.capacity_bytes() + a.members.capacity_bytes());
   add("adaptive: scratch", a.scratch_bytes());
-  add("pairs: registered leaves", p.registered.capacity_bytes());
+  add("pairs: registered leaves", p.registered.capacity_bytes() + p.tile_members.capacity_bytes() +
+                                      p.tile_boxes.capacity_bytes());
   add("pairs: registered leaves' sort", p.order_keys.capacity_bytes() + p.order_keys_spare.capacity_bytes() +
                                            p.order_ids.capacity_bytes() + p.order_ids_spare.capacity_bytes());
   add("pairs: cell tests and tiles", p.cell_test_bytes());

@@ -59,20 +59,35 @@ __global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t
   ids[r] = cell_leaves[r];
 }
 
-/// out[r] = registered_leaf(leaves[ids[r]]), a warp's records written in
-/// one piece (92 bytes a thread, stored by itself, lay 92 bytes apart from
-/// its neighbours').
-__global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t* ids, std::size_t count,
-                                         RegisteredLeaf* out) {
+/// out[r] = registered_leaf(leaves[ids[r]]) and beside it the registration
+/// as its cell's tiles read it (the cell's rank in the high bits of keys[r],
+/// pack_key) and its root's float box, each a warp's records written in one
+/// piece (a record stored by itself lies 92, 28 or 24 bytes from its
+/// neighbours').
+__global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t* ids, const std::uint64_t* keys,
+                                         int root_bits, const std::uint64_t* cell_ids, GridSpec grid,
+                                         const FloatBox* triangle_boxes, std::size_t count, RegisteredLeaf* out,
+                                         UniformTileMember* tile_members, FloatBox* tile_boxes) {
   __shared__ detail::WarpRunStage<RegisteredLeaf, detail::kBlockSize> stage;
+  __shared__ detail::WarpRunStage<UniformTileMember, detail::kBlockSize> member_stage;
+  __shared__ detail::WarpRunStage<FloatBox, detail::kBlockSize> box_stage;
   const std::uint64_t r = thread_item();
   RegisteredLeaf record;
-  if (r < count) record = registered_leaf(leaves[ids[r]]);
+  UniformTileMember member{};
+  FloatBox box{};
+  if (r < count) {
+    record = registered_leaf(leaves[ids[r]]);
+    const CellCoord cell = grid_cell_coord(grid, cell_ids[keys[r] >> root_bits]);
+    member = {record.root, record.slot_depth, record.slot_index, local_cells(record.cells, cell)};
+    box = triangle_boxes[record.root];
+  }
   stage.write(record, r, count, out);
+  member_stage.write(member, r, count, tile_members);
+  box_stage.write(box, r, count, tile_boxes);
 }
 
 /// The first of a cell's leaves (ordered by root) whose root is at least `root`.
-__device__ std::uint64_t first_with_root(const RegisteredLeaf* registered, std::uint64_t begin, std::uint64_t end,
+__device__ std::uint64_t first_with_root(const UniformTileMember* registered, std::uint64_t begin, std::uint64_t end,
                                          std::uint32_t root) {
   while (begin < end) {
     const std::uint64_t mid = begin + (end - begin) / 2;
@@ -84,7 +99,7 @@ __device__ std::uint64_t first_with_root(const RegisteredLeaf* registered, std::
 /// Tests of each cell whose smaller root lies in [lo, hi): rows [i0, i1) of
 /// the cell's numbering, tests[c] of them in tiles[c] tiles; tests[cells] =
 /// tiles[cells] = 0.
-__global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells, const RegisteredLeaf* registered,
+__global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells, const UniformTileMember* registered,
                                    std::uint32_t lo, std::uint32_t hi, std::uint64_t* tests, std::uint64_t* tiles,
                                    std::uint64_t* row_begin, std::uint64_t* row_end) {
   const std::uint64_t c = thread_item();
@@ -151,13 +166,16 @@ constexpr unsigned kRowLoopTests = 2048;
 /// unbounded, 47% of the warps active, 2.36 ms at 56, 52%.)
 constexpr int kTestBlocksPerSm = 9;
 
-/// A registered leaf as a tile of one cell holds it: its root, its time slot
-/// and its cells as masks around the tile's cell (LocalCells).
-struct UniformTileMember {
-  Index root;
-  std::uint32_t slot_depth, slot_index;
-  LocalCells cells;
-};
+/// from[0, count) into `to`, word by word, each thread of the block a word
+/// (a warp reads 128 contiguous bytes at a time, whatever the record's size).
+template <class T>
+__device__ void block_copy_words(const T* from, unsigned count, T* to) {
+  static_assert(sizeof(T) % sizeof(std::uint32_t) == 0 && alignof(T) % 4 == 0, "records are copied word by word");
+  constexpr unsigned kWords = sizeof(T) / sizeof(std::uint32_t);
+  const auto* in = reinterpret_cast<const std::uint32_t*>(from);
+  auto* out = reinterpret_cast<std::uint32_t*>(to);
+  for (unsigned w = threadIdx.x; w < count * kWords; w += blockDim.x) out[w] = in[w];
+}
 
 SNAG_HD_INLINE bool slots_nested(const UniformTileMember& a, const UniformTileMember& b) {
   return ::snag::slots_nested(a.slot_depth, a.slot_index, b.slot_depth, b.slot_index);
@@ -176,17 +194,20 @@ struct UniformTileCells {
   const std::uint64_t* first;
   const std::uint64_t* cell_ids;
   const RegisteredLeaf* members;
+  const UniformTileMember* tile_members;  ///< members[r] in its cell
+  const FloatBox* tile_boxes;             ///< members[r]'s root's float box
   GridSpec grid;
 
   __device__ std::uint64_t begin(std::uint64_t c) const { return first[c]; }
   __device__ std::uint64_t size(std::uint64_t c) const { return first[c + 1] - first[c]; }
   __device__ Cell cell(std::uint64_t c) const { return {grid_cell_coord(grid, cell_ids[c])}; }
-  /// members[begin, begin + count) into `to`, each thread of the block a member.
-  __device__ void load_members(std::uint64_t begin, unsigned count, const Cell& cell, TileMember* to) const {
-    for (unsigned k = threadIdx.x; k < count; k += blockDim.x) {
-      const RegisteredLeaf& m = members[begin + k];
-      to[k] = {m.root, m.slot_depth, m.slot_index, local_cells(m.cells, cell.coord)};
-    }
+  /// tile_members[begin, begin + count) into `to`.
+  __device__ void load_members(std::uint64_t begin, unsigned count, const Cell&, TileMember* to) const {
+    block_copy_words(tile_members + begin, count, to);
+  }
+  /// The roots' float boxes of members[begin, begin + count) into `to`.
+  __device__ void load_boxes(std::uint64_t begin, unsigned count, const FloatBox*, FloatBox* to) const {
+    block_copy_words(tile_boxes + begin, count, to);
   }
   /// a and b are members[index_a] and members[index_b].
   __device__ CellPairVerdict verdict(const TileMember& a, const TileMember& b, std::uint64_t index_a,
@@ -221,14 +242,13 @@ struct AdaptiveTileCells {
   __device__ std::uint64_t begin(std::uint64_t c) const { return cells[c].first; }
   __device__ std::uint64_t size(std::uint64_t c) const { return cells[c].count; }
   __device__ Cell cell(std::uint64_t c) const { return {cells[c].coord, cells[c].level}; }
-  /// members[begin, begin + count) into `to`, word by word.
+  /// members[begin, begin + count) into `to`.
   __device__ void load_members(std::uint64_t begin, unsigned count, const Cell&, TileMember* to) const {
-    static_assert(sizeof(Member) % sizeof(std::uint32_t) == 0 && alignof(Member) % 4 == 0,
-                  "members are copied word by word");
-    constexpr unsigned kWords = sizeof(Member) / sizeof(std::uint32_t);
-    const auto* from = reinterpret_cast<const std::uint32_t*>(members + begin);
-    auto* words = reinterpret_cast<std::uint32_t*>(to);
-    for (unsigned w = threadIdx.x; w < count * kWords; w += blockDim.x) words[w] = from[w];
+    block_copy_words(members + begin, count, to);
+  }
+  /// The roots' float boxes of members[begin, begin + count) into `to`.
+  __device__ void load_boxes(std::uint64_t begin, unsigned count, const FloatBox* triangle_boxes, FloatBox* to) const {
+    for (unsigned k = threadIdx.x; k < count; k += blockDim.x) to[k] = triangle_boxes[members[begin + k].root];
   }
   __device__ CellPairVerdict verdict(const Member& a, const Member& b, std::uint64_t, std::uint64_t,
                                      const Cell& cell) const {
@@ -274,15 +294,17 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
                                const typename Cells::Cell& cell, const FloatBox* triangle_boxes,
                                TileSide<Cells>& side) {
   source.load_members(begin, count, cell, side.members);
-  for (unsigned k = threadIdx.x; k < count; k += blockDim.x)
-    side.boxes[k] = triangle_boxes[source.members[begin + k].root];
+  source.load_boxes(begin, count, triangle_boxes, side.boxes);
 }
 
 /// The tests of a chunk, tile by tile (first_tile[cells] of them, read on the
 /// device): each block strides over runs of kTileRun tiles
 /// (grid/pair_index.hpp), finds a tile's cell by a galloping search from its
-/// last one (the block's tiles ascend), reads the tile's rows and columns
-/// and their roots' float boxes into shared memory, and its threads run the
+/// last one (the block's tiles ascend), reads the tile's rows (unless its
+/// last tile had the same) and columns and their roots' float boxes into
+/// shared memory (the uniform grid's as order_registrations_on_device laid
+/// them out, in cell order: test_kernel on cloth_ball ×4 2.27 -> 2.05 ms,
+/// ×16 22.7 -> 20.9 ms a step, H200), and its threads run the
 /// tile's tests (a large tile a row a thread, a small one in rounds of a test
 /// a thread), with the CPU's filters in the CPU's order
 /// (broad_phase/virtual_subdivision_grid.cpp): the roots' float boxes first,
@@ -321,12 +343,18 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
   __shared__ alignas(alignof(Side)) unsigned char side_storage[2 * sizeof(Side)];
   __shared__ alignas(alignof(Cell)) unsigned char cell_storage[sizeof(Cell)];
   __shared__ std::uint64_t tile_cell, tile_rows[2], tile_columns[2];  // [begin, end) of each
-  __shared__ bool tile_skipped;
+  // The members the rows hold, [begin, end) in the source: a run's tiles
+  // share their row tile but at its end, and read it once.
+  __shared__ std::uint64_t held_rows[2];
+  __shared__ bool tile_skipped, rows_held;
   Side& rows = *reinterpret_cast<Side*>(side_storage);
   Side& columns = *reinterpret_cast<Side*>(side_storage + sizeof(Side));
   Cell& tile_cell_info = *reinterpret_cast<Cell*>(cell_storage);
   for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
-  if (threadIdx.x == 0) tile_cell = 0;
+  if (threadIdx.x == 0) {
+    tile_cell = 0;
+    held_rows[0] = held_rows[1] = ~std::uint64_t{0};
+  }
   unsigned boxes_apart = 0, same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0,
            culls = 0;
   // Each warp's tests of the tile whose boxes meet, still to be decided (as
@@ -391,6 +419,12 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
       tile_columns[0] = tile.column_begin;
       tile_columns[1] = tile.column_end;
       tile_skipped = !source.tile_may_hold(c, tile, range_first, range_end);
+      const std::uint64_t rows_first = source.begin(c) + tile.row_begin, rows_end = source.begin(c) + tile.row_end;
+      rows_held = held_rows[0] == rows_first && held_rows[1] == rows_end;
+      if (!tile_skipped) {
+        held_rows[0] = rows_first;
+        held_rows[1] = rows_end;
+      }
     }
     __syncthreads();
     if (tile_skipped) continue;  // no test of this pass's range (the whole block skips)
@@ -402,7 +436,7 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
     // tile whose first rows the chunk leaves out).
     const auto offset = static_cast<std::int64_t>(tile_columns[0]) - static_cast<std::int64_t>(tile_rows[0]);
     const Cell cell = tile_cell_info;
-    load_tile_side(source, cell_first + tile_rows[0], row_count, cell, triangle_boxes, rows);
+    if (!rows_held) load_tile_side(source, cell_first + tile_rows[0], row_count, cell, triangle_boxes, rows);
     load_tile_side(source, cell_first + tile_columns[0], column_count, cell, triangle_boxes, columns);
     __syncthreads();
     // The rules of the tests whose roots' boxes meet, 32 waiting tests at a
@@ -621,14 +655,18 @@ std::vector<RootRange> split_range(RootRange range, const std::vector<unsigned>&
 
 }  // namespace
 
-void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const DeviceCellLists& lists,
-                                   DevicePairs& p, cudaStream_t stream, const GrowthCheck& check) {
+void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
+                                   const DeviceCellLists& lists, const GridSpec& grid, DevicePairs& p,
+                                   cudaStream_t stream, const GrowthCheck& check) {
   const std::size_t cells = lists.cells;
   const std::size_t registrations = lists.leaves.size();
-  check_growth(check, p.registered.growth_bytes(registrations) + p.order_keys.growth_bytes(registrations) +
+  check_growth(check, p.registered.growth_bytes(registrations) + p.tile_members.growth_bytes(registrations) +
+                          p.tile_boxes.growth_bytes(registrations) + p.order_keys.growth_bytes(registrations) +
                           p.order_keys_spare.growth_bytes(registrations) + p.order_ids.growth_bytes(registrations) +
                           p.order_ids_spare.growth_bytes(registrations));
   p.registered.resize(registrations);
+  p.tile_members.resize(registrations);
+  p.tile_boxes.resize(registrations);
   if (registrations == 0) return;
   p.order_keys.resize(registrations);
   p.order_keys_spare.resize(registrations);
@@ -643,7 +681,8 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
   cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
   radix_sort_pairs(keys, ids, registrations, root_bits + radix_bits(cells > 0 ? cells - 1 : 0), p.temp, stream, check);
   gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-      leaves, ids.Current(), registrations, p.registered.data());
+      leaves, ids.Current(), keys.Current(), root_bits, lists.cell_ids.data(), grid, triangle_boxes, registrations,
+      p.registered.data(), p.tile_members.data(), p.tile_boxes.data());
   SNAG_CUDA_CHECK_LAUNCH();
 }
 
@@ -848,10 +887,11 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
                                PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit) {
   const std::size_t cells = lists.cells;
-  const UniformTileCells source{lists.first.data(), lists.cell_ids.data(), p.registered.data(), grid};
+  const UniformTileCells source{lists.first.data(), lists.cell_ids.data(), p.registered.data(),
+                                p.tile_members.data(), p.tile_boxes.data(), grid};
   auto number_rows = [&](RootRange range) {
     chunk_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
-        lists.first.data(), cells, p.registered.data(), range.first, range.end, p.cell_tests.data(),
+        lists.first.data(), cells, p.tile_members.data(), range.first, range.end, p.cell_tests.data(),
         p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
   };

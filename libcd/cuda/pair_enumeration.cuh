@@ -24,12 +24,27 @@
 #include "libcd/broad_phase/broad_phase.hpp"
 #include "libcd/cuda/adaptive_cells.cuh"
 #include "libcd/cuda/cell_registration.cuh"
+#include "libcd/grid/control_bits.hpp"
 
 namespace snag {
+
+/// A registration as the uniform grid's pair tests read it for every test
+/// of its cell: its root, its time slot and its cells as masks around the
+/// cell it is registered in (LocalCells). A registration lies in one cell,
+/// so it is worked out once, when the registrations are ordered, not by
+/// every tile of the cell that loads it (and in 28 bytes, not 92).
+struct UniformTileMember {
+  Index root;
+  std::uint32_t slot_depth, slot_index;
+  LocalCells cells;
+};
 
 /// Buffers of the pair stage, reused across calls (they only grow).
 struct DevicePairs {
   DeviceBuffer<RegisteredLeaf> registered;  ///< cell by cell, each cell's by root triangle
+  /// registered[r] in its cell, and its root's float box (both in the order of registered).
+  DeviceBuffer<UniformTileMember> tile_members;
+  DeviceBuffer<FloatBox> tile_boxes;
   DeviceBuffer<std::uint64_t> order_keys, order_keys_spare;  ///< the registrations' sort
   DeviceBuffer<std::uint32_t> order_ids, order_ids_spare;
   DeviceBuffer<std::uint64_t> cell_tests, test_total;  ///< a chunk's tests per cell, and their sum (one value)
@@ -42,7 +57,7 @@ struct DevicePairs {
   DeviceBuffer<unsigned char> temp;
 
   explicit DevicePairs(cudaStream_t stream)
-      : registered(0, stream), order_keys(0, stream), order_keys_spare(0, stream), order_ids(0, stream),
+      : registered(0, stream), tile_members(0, stream), tile_boxes(0, stream), order_keys(0, stream), order_keys_spare(0, stream), order_ids(0, stream),
         order_ids_spare(0, stream), cell_tests(0, stream), test_total(0, stream), cell_tiles(0, stream),
         first_tile(0, stream), row_begin(0, stream), row_end(0, stream),
         kept(0, stream), culled(0, stream),
@@ -83,16 +98,19 @@ struct PairChunkPlan {
 };
 
 /// Copies the registered leaves into pairs.registered, cell by cell and each
-/// cell's by root triangle (stable; roots below triangle_count), which is all
-/// the pair tests read of them: the leaves and the registration's scratch may
-/// be given back after it (in stream order). `check` is told what its buffers
+/// cell's by root triangle (stable; roots below triangle_count), with each
+/// one's UniformTileMember in the grid's cell it is registered in and its
+/// root's float box (triangle_boxes, #F) beside it, which is all the pair
+/// tests read of them: the leaves and the registration's scratch may be
+/// given back after it (in stream order). `check` is told what its buffers
 /// add before they allocate (it may throw). Throws CudaError, or what `check`
 /// throws.
-void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const DeviceCellLists& lists,
-                                   DevicePairs& pairs, cudaStream_t stream, const GrowthCheck& check = {});
+void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
+                                   const DeviceCellLists& lists, const GridSpec& grid, DevicePairs& pairs,
+                                   cudaStream_t stream, const GrowthCheck& check = {});
 
-/// Runs every test of the registered cells (pairs.registered, from
-/// order_registrations_on_device) and hands the unique triangle
+/// Runs every test of the registered cells (pairs.registered and the rest,
+/// from order_registrations_on_device with the same grid and boxes) and hands the unique triangle
 /// pairs to `visit` chunk by chunk (see PairChunkPlan), each chunk's pairs
 /// ascending and the chunks in ascending order; the device array passed to
 /// visit is valid until it returns. Fills stats' test counters,
