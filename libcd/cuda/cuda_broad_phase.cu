@@ -201,7 +201,8 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   if (!adaptive_)
     order_registrations_on_device(b.subdivision.leaves.data(), triangle_count, b.bounds.triangle_boxes.data(),
-                                  b.cells, grid, b.pairs, stream, budget_check("copy of the leaves for the pair tests"));
+                                  b.cells, grid, b.pairs, stream,
+                                  budget_check("copy of the leaves for the pair tests"));
   if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
 
   // The chunks' room: what the budget leaves beside the buffers the chunks do

@@ -57,11 +57,11 @@ struct DevicePairs {
   DeviceBuffer<unsigned char> temp;
 
   explicit DevicePairs(cudaStream_t stream)
-      : registered(0, stream), tile_members(0, stream), tile_boxes(0, stream), order_keys(0, stream), order_keys_spare(0, stream), order_ids(0, stream),
-        order_ids_spare(0, stream), cell_tests(0, stream), test_total(0, stream), cell_tiles(0, stream),
-        first_tile(0, stream), row_begin(0, stream), row_end(0, stream),
-        kept(0, stream), culled(0, stream),
-        sorted(0, stream), pairs(0, stream), counters(0, stream), histogram(0, stream), temp(0, stream) {}
+      : registered(0, stream), tile_members(0, stream), tile_boxes(0, stream), order_keys(0, stream),
+        order_keys_spare(0, stream), order_ids(0, stream), order_ids_spare(0, stream), cell_tests(0, stream),
+        test_total(0, stream), cell_tiles(0, stream), first_tile(0, stream), row_begin(0, stream),
+        row_end(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream), pairs(0, stream),
+        counters(0, stream), histogram(0, stream), temp(0, stream) {}
 
   /// Bytes of the per-cell numbering of a chunk's tests and tiles.
   std::size_t cell_test_bytes() const {
@@ -110,8 +110,8 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
                                    cudaStream_t stream, const GrowthCheck& check = {});
 
 /// Runs every test of the registered cells (pairs.registered and the rest,
-/// from order_registrations_on_device with the same grid and boxes) and hands the unique triangle
-/// pairs to `visit` chunk by chunk (see PairChunkPlan), each chunk's pairs
+/// from order_registrations_on_device with the same grid and boxes) and
+/// hands the unique triangle pairs to `visit` chunk by chunk (see PairChunkPlan), each chunk's pairs
 /// ascending and the chunks in ascending order; the device array passed to
 /// visit is valid until it returns. Fills stats' test counters,
 /// culled_by_dop, duplicate_root_pair_tests, duplicate_culled_tests (when
