@@ -422,9 +422,14 @@ std::size_t CudaBroadPhase::held_bytes() const {
   return total;
 }
 
-GrowthCheck CudaBroadPhase::budget_check(const char* stage) const {
+GrowthCheck CudaBroadPhase::budget_check(const char* stage) {
   if (budget_ == 0) return {};
   return [this, stage](std::size_t bytes) {
+    // The last detection's chunks, sized again once the registration is done,
+    // give their room to a stage before the pair tests that needs it: else a
+    // step whose stages grow (more leaves) would be refused under a limit at
+    // which it fits alone.
+    if (held_bytes() + bytes > budget_) release_chunk_buffers();
     const std::size_t held = held_bytes();
     if (held + bytes > budget_)
       throw UsageError("the device memory limit is too small for this scene: the broad phase's " + std::string(stage) +
@@ -433,12 +438,39 @@ GrowthCheck CudaBroadPhase::budget_check(const char* stage) const {
   };
 }
 
+namespace {
+
+/// Calls `visit` on each buffer whose size the chunks bound.
+template <class Visit>
+void for_each_chunk_buffer(CudaBroadPhaseBuffers& b, Visit visit) {
+  DevicePairs& p = b.pairs;
+  DeviceFeatures& f = b.features;
+  visit(p.kept);
+  visit(p.sorted);
+  visit(p.pairs);
+  visit(p.cell_tests);
+  visit(p.test_total);
+  visit(p.cell_tiles);
+  visit(p.first_tile);
+  visit(p.row_begin);
+  visit(p.row_end);
+  visit(f.tally);
+  visit(f.kept);
+  for (DeviceBuffer<std::uint64_t>* keys : {&f.vf_keys, &f.ee_keys, &f.vf_sorted, &f.ee_sorted}) visit(*keys);
+  visit(f.vf);
+  visit(f.ee);
+}
+
+}  // namespace
+
 std::size_t CudaBroadPhase::chunk_bytes() const {
-  const DevicePairs& p = buffers_->pairs;
-  const DeviceFeatures& f = buffers_->features;
-  return p.kept.capacity_bytes() + p.sorted.capacity_bytes() + p.pairs.capacity_bytes() + p.cell_test_bytes() +
-         f.tally.capacity_bytes() + f.kept.capacity_bytes() + f.vf_keys.capacity_bytes() + f.ee_keys.capacity_bytes() +
-         f.vf_sorted.capacity_bytes() + f.ee_sorted.capacity_bytes() + f.vf.capacity_bytes() + f.ee.capacity_bytes();
+  std::size_t bytes = 0;
+  for_each_chunk_buffer(*buffers_, [&](const auto& buffer) { bytes += buffer.capacity_bytes(); });
+  return bytes;
+}
+
+void CudaBroadPhase::release_chunk_buffers() {
+  for_each_chunk_buffer(*buffers_, [](auto& buffer) { buffer.release(); });
 }
 
 void CudaBroadPhase::release_stage_buffers() {

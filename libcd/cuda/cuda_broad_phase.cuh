@@ -148,10 +148,13 @@ class CudaBroadPhase final : public BroadPhase {
                                 const std::function<void(const TrianglePair*, std::size_t)>& visit);
   /// Bytes of the buffers whose size the chunks bound.
   std::size_t chunk_bytes() const;
+  /// Gives back the buffers whose size the chunks bound.
+  void release_chunk_buffers();
   /// With a budget: the check that `stage`'s next allocation keeps
-  /// held_bytes() within it, made before the allocation (a UsageError when
-  /// not); without one, no check.
-  std::function<void(std::size_t)> budget_check(const char* stage) const;  // a GrowthCheck
+  /// held_bytes() within it, made before the allocation, giving back the
+  /// last detection's chunk buffers first where they are in its way (a
+  /// UsageError when it still does not fit); without one, no check.
+  std::function<void(std::size_t)> budget_check(const char* stage);  // a GrowthCheck
   /// Gives back the leaves and the subdivision's and registration's scratch
   /// (once the pair tests' copy of the leaves is queued).
   void release_stage_buffers();
