@@ -557,18 +557,30 @@ class CudaBackend final : public Backend {
   // keeps its buffers when they hold at most half of the room, which spares
   // the next step their allocation; when the limit then refuses this one
   // (UsageError), the other's buffers are given back and `detect` runs again
-  // with all the room it would have alone. While both run together the
-  // other's buffers are in use: the UsageError goes to the caller.
+  // with all the room it would have alone. When that is refused too, its own
+  // broad phase's buffers, sized by earlier steps, are given back, and it
+  // runs once more as it would in a back end of its own: so a limit at which
+  // each detection fits alone holds the whole scan. While both run together
+  // the other's buffers are in use: the UsageError goes to the caller.
   template <class Detect>
   void detect_within_budget(const Detection& detection, const Detection& other, Detect detect) {
-    use_budget(detection, other);
-    try {
-      detect();
-    } catch (const UsageError&) {
-      if (together_ || other.held_bytes() == 0) throw;
-      other.release_buffers();
+    bool own_released = false;
+    for (;;) {
       use_budget(detection, other);
-      detect();
+      try {
+        detect();
+        return;
+      } catch (const UsageError&) {
+        if (together_) throw;
+        // The other's topology stays: it runs again only when giving its
+        // buffers back freed some.
+        const std::size_t other_held = other.held_bytes();
+        other.release_buffers();
+        if (other.held_bytes() < other_held) continue;
+        if (own_released) throw;
+        detection.broad->release_buffers();
+        own_released = true;
+      }
     }
   }
 
