@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "libcd/bounding_volume/float_box.hpp"
 #include "libcd/broad_phase/broad_phase_support.hpp"
@@ -68,9 +69,27 @@ struct VirtualSubdivisionGrid::PairTests {
   std::vector<PairCounts> counts;
   std::size_t memory_bytes = 0;  ///< of the cell lists the tests read
   double seconds = 0;            ///< of step 5
+  std::uint64_t apart_in_y = 0;  ///< tests whose root boxes are apart in y, counted without running them
 };
 
 namespace {
+
+/// Splits `tests` work items into chunks, one list of keys kept and culled
+/// and one PairCounts each, and runs run_chunk(chunk, begin, end) on each
+/// chunk's items [begin, end), in parallel.
+template <class RunChunk>
+void for_each_chunk(std::uint64_t tests, std::vector<std::vector<std::uint64_t>>& chunk_kept,
+                    std::vector<std::vector<std::uint64_t>>& chunk_culled, std::vector<PairCounts>& chunk_counts,
+                    RunChunk run_chunk) {
+  constexpr std::uint64_t kChunk = 1 << 16;
+  const std::size_t chunks = static_cast<std::size_t>((tests + kChunk - 1) / kChunk);
+  chunk_kept.assign(chunks, {});
+  chunk_culled.assign(chunks, {});
+  chunk_counts.assign(chunks, {});
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
+    run_chunk(chunk, chunk * kChunk, std::min<std::uint64_t>(tests, (chunk + 1) * kChunk));
+  });
+}
 
 /// Runs one test per work item, chunk by chunk in parallel. first_test
 /// (#cells+1) is the prefix sum of the tests of each cell; cell c's tests are
@@ -82,14 +101,7 @@ void run_work_items(const std::vector<std::uint64_t>& first_test, Members member
                     std::vector<std::vector<std::uint64_t>>& chunk_kept,
                     std::vector<std::vector<std::uint64_t>>& chunk_culled, std::vector<PairCounts>& chunk_counts) {
   const std::size_t cells = first_test.size() - 1;
-  const std::uint64_t tests = first_test[cells];
-  constexpr std::uint64_t kChunk = 1 << 16;
-  const std::size_t chunks = static_cast<std::size_t>((tests + kChunk - 1) / kChunk);
-  chunk_kept.assign(chunks, {});
-  chunk_culled.assign(chunks, {});
-  chunk_counts.assign(chunks, {});
-  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
-    const std::uint64_t begin = chunk * kChunk, end = std::min<std::uint64_t>(tests, begin + kChunk);
+  auto run_chunk = [&](std::size_t chunk, std::uint64_t begin, std::uint64_t end) {
     // Work item w -> (cell, i, j): the binary search and inversion of
     // grid/pair_index.hpp for the chunk's first item, then stepping, which
     // gives the same mapping item by item.
@@ -113,7 +125,41 @@ void run_work_items(const std::vector<std::uint64_t>& first_test, Members member
         }
       }
     }
-  });
+  };
+  for_each_chunk(first_test[cells], chunk_kept, chunk_culled, chunk_counts, run_chunk);
+}
+
+/// The lower and upper y of a box as the cells' sweep orders and bounds
+/// them: a NaN bound, which float_boxes_may_overlap finds apart from no
+/// other, as -inf and +inf.
+float sweep_low(const FloatBox& box) { return std::isnan(box.lo[1]) ? -INFINITY : box.lo[1]; }
+float sweep_high(const FloatBox& box) { return std::isnan(box.hi[1]) ? INFINITY : box.hi[1]; }
+
+/// Runs one test per work item, chunk by chunk in parallel, where each
+/// registration r of the cells (cell c's are first[c] .. first[c+1]) is
+/// tested against those in (r, run_end[r]), and first_test (#registrations+1)
+/// is the prefix sum of those runs' lengths. test(c, r, s, counts, kept,
+/// culled) runs one; the chunks' keys come back in work-item order.
+template <class Test>
+void run_runs(const std::vector<std::uint64_t>& first_test, const std::vector<std::uint64_t>& run_end,
+              const std::vector<std::uint64_t>& first, Test test, std::vector<std::vector<std::uint64_t>>& chunk_kept,
+              std::vector<std::vector<std::uint64_t>>& chunk_culled, std::vector<PairCounts>& chunk_counts) {
+  const std::uint64_t registrations = run_end.size(), cells = first.size() - 1;
+  auto run_chunk = [&](std::size_t chunk, std::uint64_t begin, std::uint64_t end) {
+    // Work item w -> (r, s): the registration whose run holds the chunk's
+    // first item, and its cell, by binary search; then stepping.
+    std::uint64_t r = cell_of_work_item(first_test.data(), registrations, begin);
+    std::uint64_t s = r + 1 + (begin - first_test[r]);
+    std::uint64_t c = cell_of_work_item(first.data(), cells, r);
+    for (std::uint64_t w = begin; w < end; ++w) {
+      test(c, r, s, chunk_counts[chunk], chunk_kept[chunk], chunk_culled[chunk]);
+      if (++s < run_end[r] || w + 1 == end) continue;
+      do { ++r; } while (first_test[r + 1] == first_test[r]);  // the next run that holds a test: item w + 1
+      s = r + 1;
+      while (first[c + 1] <= r) ++c;
+    }
+  };
+  for_each_chunk(first_test.back(), chunk_kept, chunk_culled, chunk_counts, run_chunk);
 }
 
 }  // namespace
@@ -146,32 +192,54 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
   stats_.cells_used = lists.cell_ids.size();
   stats_.seconds_registration = seconds_since(t);
 
-  // 5. One test per work item: prefix sums of per-cell pair counts.
+  // 5. The tests of each cell are its pairs; stats_.tests counts them all.
   t = Clock::now();
   const std::size_t cells = lists.cell_ids.size();
-  std::vector<std::uint64_t> first_test(cells + 1, 0);
-  for (std::size_t c = 0; c < cells; ++c)
-    first_test[c + 1] = first_test[c] + pair_count(lists.first[c + 1] - lists.first[c]);
-  stats_.tests = first_test[cells];
+  for (std::size_t c = 0; c < cells; ++c) stats_.tests += pair_count(lists.first[c + 1] - lists.first[c]);
 
-  // The leaves as the tests read them, cell by cell (RegisteredLeaf).
+  // The leaves as the tests read them, cell by cell (RegisteredLeaf), each
+  // cell's ordered by the lower y of their root's box: a leaf's box can meet
+  // in y only those of the leaves after it up to the first whose lower y
+  // passes its upper y, so those runs are the pairs tested, and the other
+  // pairs of the cell, apart in y, are culled by their boxes untested.
   std::vector<RegisteredLeaf> registered(lists.leaves.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, registered.size(), 4096), [&](const auto& range) {
-    for (std::size_t r = range.begin(); r != range.end(); ++r) {
-      const Leaf& leaf = leaves_[lists.leaves[r]];
-      registered[r] = registered_leaf(leaf);
+  std::vector<float> low_y(registered.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64), [&](const auto& range) {
+    for (std::size_t c = range.begin(); c != range.end(); ++c) {
+      const auto begin = registered.begin() + static_cast<std::ptrdiff_t>(lists.first[c]);
+      const auto end = registered.begin() + static_cast<std::ptrdiff_t>(lists.first[c + 1]);
+      for (auto r = begin; r != end; ++r) *r = registered_leaf(leaves_[lists.leaves[r - registered.begin()]]);
+      std::sort(begin, end, [&](const RegisteredLeaf& a, const RegisteredLeaf& b) {
+        return sweep_low(root_boxes_[a.root]) < sweep_low(root_boxes_[b.root]);
+      });
+      for (auto r = begin; r != end; ++r) low_y[r - registered.begin()] = sweep_low(root_boxes_[r->root]);
     }
   });
+  // first_test[r]: the tests of the registrations before r, whose own are
+  // the pairs (r, s) for s in (r, run_end[r]).
+  std::vector<std::uint64_t> first_test(registered.size() + 1, 0);
+  std::vector<std::uint64_t> run_end(registered.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64), [&](const auto& range) {
+    for (std::size_t c = range.begin(); c != range.end(); ++c) {
+      const auto cell_end = low_y.begin() + static_cast<std::ptrdiff_t>(lists.first[c + 1]);
+      for (std::uint64_t r = lists.first[c]; r < lists.first[c + 1]; ++r) {
+        const float high_y = sweep_high(root_boxes_[registered[r].root]);
+        run_end[r] = static_cast<std::uint64_t>(
+            std::upper_bound(low_y.begin() + static_cast<std::ptrdiff_t>(r) + 1, cell_end, high_y) - low_y.begin());
+        first_test[r + 1] = run_end[r] - r - 1;
+      }
+    }
+  });
+  for (std::size_t r = 0; r < registered.size(); ++r) first_test[r + 1] += first_test[r];
 
   std::vector<CellCoord> cell_coords(cells);
   for (std::size_t c = 0; c < cells; ++c) cell_coords[c] = grid_cell_coord(grid_, lists.cell_ids[c]);
 
   const bool count_culled = settings_.count_culled_duplicates;
-  auto members = [&](std::uint64_t c) { return lists.first[c + 1] - lists.first[c]; };
   auto test = [&](std::uint64_t c, std::uint64_t i, std::uint64_t j, PairCounts& counts,
                   std::vector<std::uint64_t>& kept, std::vector<std::uint64_t>& culled) {
-    const RegisteredLeaf& a = registered[lists.first[c] + i];
-    const RegisteredLeaf& b = registered[lists.first[c] + j];
+    const RegisteredLeaf& a = registered[i];
+    const RegisteredLeaf& b = registered[j];
     if (!float_boxes_may_overlap(root_boxes_[a.root], root_boxes_[b.root])) {
       ++counts.boxes_apart;
       return;
@@ -188,11 +256,13 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
                     culled);
   };
   PairTests out;
-  run_work_items(first_test, members, members, test, out.kept, out.culled, out.counts);
+  run_runs(first_test, run_end, lists.first, test, out.kept, out.culled, out.counts);
+  out.apart_in_y = stats_.tests - first_test.back();
   out.seconds = seconds_since(t);
   out.memory_bytes = reg.registrations * 16 + lists.leaves.capacity() * 4 + lists.cell_ids.capacity() * 8 +
-                     lists.first.capacity() * 8 + first_test.capacity() * 8 +
-                     registered.capacity() * sizeof(RegisteredLeaf) + cell_coords.capacity() * sizeof(CellCoord);
+                     lists.first.capacity() * 8 + first_test.capacity() * 8 + run_end.capacity() * 8 +
+                     low_y.capacity() * 4 + registered.capacity() * sizeof(RegisteredLeaf) +
+                     cell_coords.capacity() * sizeof(CellCoord);
   return out;
 }
 
@@ -299,6 +369,7 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
     stats_.culled_by_dop += counts.culled;
     key_count += tests.kept[k].size();
   }
+  stats_.culled_by_boxes += tests.apart_in_y;
   std::vector<std::uint64_t> keys;
   keys.reserve(key_count);
   for (auto& chunk : tests.kept) {

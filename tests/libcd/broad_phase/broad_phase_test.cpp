@@ -15,6 +15,8 @@
 #include <string>
 
 #include "bench/broad_phase/binary_ply.hpp"
+#include "libcd/bounding_volume/float_box.hpp"
+#include "libcd/bounding_volume/primitive_bounds.hpp"
 #include "libcd/broad_phase/box_grid.hpp"
 #include "libcd/broad_phase/brute_force.hpp"
 #include "libcd/broad_phase/virtual_subdivision_grid.hpp"
@@ -146,6 +148,40 @@ TEST(VirtualSubdivisionGrid, CcdContainsLeafOracleOnUnevenMovingSoups) {
     const Soup soup = random_soup(seed, 300, true);
     check_ccd_against_oracles(soup, BroadPhaseSettings{});
   }
+}
+
+// Each cell is swept along y: its leaves ordered by their root's lower y,
+// each tested against those after it up to the first whose lower y passes
+// its upper y. Boxes that touch in y (one's upper y the other's lower y) or
+// start at the same y still meet, so no test of these three triangles, which
+// meet in x and z, is counted as culled by the boxes.
+TEST(VirtualSubdivisionGrid, CellsSweptAlongYTestBoxesThatTouchOrTieInY) {
+  const std::vector<Triangle> tris = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+  std::vector<Vec3> x = {{0, 0, 0}, {1, 0, 0}, {0, 0.25, 1}};
+  const Scene rising({make_object("rising", 3, {{0, 1, 2}})});
+  const float top = float_box_of(compute_primitive_bounds(rising, x, x, 0).triangles[0]).hi[1];
+  const double y = static_cast<double>(top) + 1e-12;  // the flat ones' lower y rounds down to `top`
+  for (const Vec3& p : {Vec3{0, y, 0}, Vec3{1, y, 0}, Vec3{0, y, 1}}) x.push_back(p);
+  for (const Vec3& p : {Vec3{0.1, y, 0.1}, Vec3{1, y, 0.2}, Vec3{0.2, y, 1}}) x.push_back(p);
+  Soup soup{Scene({make_object("touching", 9, tris)}), x, x};
+  const PrimitiveBounds bounds = compute_primitive_bounds(soup.scene, x, x, 0);
+  ASSERT_EQ(float_box_of(bounds.triangles[0]).hi[1], float_box_of(bounds.triangles[1]).lo[1]);
+  ASSERT_EQ(float_box_of(bounds.triangles[1]).lo[1], float_box_of(bounds.triangles[2]).lo[1]);
+
+  VirtualSubdivisionGrid largest(false);
+  BruteForceBroadPhase brute;
+  largest.build(soup.scene, {});
+  brute.build(soup.scene, {});
+  CcdSets l, b;
+  largest.detect_ccd(soup.x_t0, soup.x_t1, l.vf, l.ee);
+  brute.detect_ccd(soup.x_t0, soup.x_t1, b.vf, b.ee);
+  EXPECT_TRUE(l.vf == b.vf);
+  EXPECT_TRUE(l.ee == b.ee);
+  const BroadPhaseStats& s = largest.stats();
+  EXPECT_GE(s.tests, 3u);
+  EXPECT_EQ(s.culled_by_boxes, 0u);
+  EXPECT_EQ(s.tests, s.same_root_tests + s.removed_by_time_slots + s.removed_by_control_bits +
+                         s.removed_by_extended_control_bits + s.tests_after_control_bits);
 }
 
 TEST(VirtualSubdivisionGrid, FastMoversForceTimeHalving) {
