@@ -137,14 +137,17 @@ float sweep_high(const FloatBox& box) { return std::isnan(box.hi[1]) ? INFINITY 
 
 /// Runs one test per work item, chunk by chunk in parallel, where each
 /// registration r of the cells (cell c's are first[c] .. first[c+1]) is
-/// tested against those in (r, run_end[r]), and first_test (#registrations+1)
-/// is the prefix sum of those runs' lengths. test(c, r, s, counts, kept,
-/// culled) runs one; the chunks' keys come back in work-item order.
+/// tested against the run of those after it, and first_test
+/// (#registrations+1) is the prefix sum of the runs' lengths: r's tests are
+/// the pairs (r, s) for s in (r, r + 1 + first_test[r+1] - first_test[r]).
+/// test(c, r, s, counts, kept, culled) runs one; the chunks' keys come back
+/// in work-item order.
 template <class Test>
-void run_runs(const std::vector<std::uint64_t>& first_test, const std::vector<std::uint64_t>& run_end,
-              const std::vector<std::uint64_t>& first, Test test, std::vector<std::vector<std::uint64_t>>& chunk_kept,
+void run_runs(const std::vector<std::uint64_t>& first_test, const std::vector<std::uint64_t>& first, Test test,
+              std::vector<std::vector<std::uint64_t>>& chunk_kept,
               std::vector<std::vector<std::uint64_t>>& chunk_culled, std::vector<PairCounts>& chunk_counts) {
-  const std::uint64_t registrations = run_end.size(), cells = first.size() - 1;
+  const std::uint64_t registrations = first_test.size() - 1, cells = first.size() - 1;
+  auto run_end = [&](std::uint64_t r) { return r + 1 + first_test[r + 1] - first_test[r]; };
   auto run_chunk = [&](std::size_t chunk, std::uint64_t begin, std::uint64_t end) {
     // Work item w -> (r, s): the registration whose run holds the chunk's
     // first item, and its cell, by binary search; then stepping.
@@ -153,7 +156,7 @@ void run_runs(const std::vector<std::uint64_t>& first_test, const std::vector<st
     std::uint64_t c = cell_of_work_item(first.data(), cells, r);
     for (std::uint64_t w = begin; w < end; ++w) {
       test(c, r, s, chunk_counts[chunk], chunk_kept[chunk], chunk_culled[chunk]);
-      if (++s < run_end[r] || w + 1 == end) continue;
+      if (++s < run_end(r) || w + 1 == end) continue;
       do { ++r; } while (first_test[r + 1] == first_test[r]);  // the next run that holds a test: item w + 1
       s = r + 1;
       while (first[c + 1] <= r) ++c;
@@ -215,18 +218,17 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
       for (auto r = begin; r != end; ++r) low_y[r - registered.begin()] = sweep_low(root_boxes_[r->root]);
     }
   });
-  // first_test[r]: the tests of the registrations before r, whose own are
-  // the pairs (r, s) for s in (r, run_end[r]).
+  // first_test[r]: the tests of the registrations before r; r's own are the
+  // pairs (r, s) for s from r + 1 up to the first whose lower y passes r's
+  // upper y.
   std::vector<std::uint64_t> first_test(registered.size() + 1, 0);
-  std::vector<std::uint64_t> run_end(registered.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64), [&](const auto& range) {
     for (std::size_t c = range.begin(); c != range.end(); ++c) {
       const auto cell_end = low_y.begin() + static_cast<std::ptrdiff_t>(lists.first[c + 1]);
       for (std::uint64_t r = lists.first[c]; r < lists.first[c + 1]; ++r) {
         const float high_y = sweep_high(root_boxes_[registered[r].root]);
-        run_end[r] = static_cast<std::uint64_t>(
-            std::upper_bound(low_y.begin() + static_cast<std::ptrdiff_t>(r) + 1, cell_end, high_y) - low_y.begin());
-        first_test[r + 1] = run_end[r] - r - 1;
+        const auto next = low_y.begin() + static_cast<std::ptrdiff_t>(r) + 1;
+        first_test[r + 1] = static_cast<std::uint64_t>(std::upper_bound(next, cell_end, high_y) - next);
       }
     }
   });
@@ -256,13 +258,12 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
                     culled);
   };
   PairTests out;
-  run_runs(first_test, run_end, lists.first, test, out.kept, out.culled, out.counts);
+  run_runs(first_test, lists.first, test, out.kept, out.culled, out.counts);
   out.apart_in_y = stats_.tests - first_test.back();
   out.seconds = seconds_since(t);
   out.memory_bytes = reg.registrations * 16 + lists.leaves.capacity() * 4 + lists.cell_ids.capacity() * 8 +
-                     lists.first.capacity() * 8 + first_test.capacity() * 8 + run_end.capacity() * 8 +
-                     low_y.capacity() * 4 + registered.capacity() * sizeof(RegisteredLeaf) +
-                     cell_coords.capacity() * sizeof(CellCoord);
+                     lists.first.capacity() * 8 + first_test.capacity() * 8 + low_y.capacity() * 4 +
+                     registered.capacity() * sizeof(RegisteredLeaf) + cell_coords.capacity() * sizeof(CellCoord);
   return out;
 }
 
