@@ -55,4 +55,11 @@ SNAG_HD_INLINE bool float_boxes_may_overlap(const FloatBox& a, const FloatBox& b
   return !apart;
 }
 
+/// The lower and upper y of a box as a sweep along y orders and bounds it (the
+/// grids' cells, broad_phase/virtual_subdivision_grid.cpp): a NaN bound, which
+/// float_boxes_may_overlap finds apart from no other, as -inf and +inf. Where
+/// sweep_low(b) > sweep_high(a), float_boxes_may_overlap(a, b) is false.
+SNAG_HD_INLINE float sweep_low(const FloatBox& box) { return box.lo[1] != box.lo[1] ? -INFINITY : box.lo[1]; }
+SNAG_HD_INLINE float sweep_high(const FloatBox& box) { return box.hi[1] != box.hi[1] ? INFINITY : box.hi[1]; }
+
 }  // namespace snag

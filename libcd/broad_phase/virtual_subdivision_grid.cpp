@@ -129,12 +129,6 @@ void run_work_items(const std::vector<std::uint64_t>& first_test, Members member
   for_each_chunk(first_test[cells], chunk_kept, chunk_culled, chunk_counts, run_chunk);
 }
 
-/// The lower and upper y of a box as the cells' sweep orders and bounds
-/// them: a NaN bound, which float_boxes_may_overlap finds apart from no
-/// other, as -inf and +inf.
-float sweep_low(const FloatBox& box) { return std::isnan(box.lo[1]) ? -INFINITY : box.lo[1]; }
-float sweep_high(const FloatBox& box) { return std::isnan(box.hi[1]) ? INFINITY : box.hi[1]; }
-
 /// Runs one test per work item, chunk by chunk in parallel, where each
 /// registration r of the cells (cell c's are first[c] .. first[c+1]) is
 /// tested against the run of those after it, and first_test

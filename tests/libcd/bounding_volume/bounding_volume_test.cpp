@@ -143,6 +143,25 @@ TEST(FloatBox, NanBoundsLeaveTheDecisionToTheDops) {
   EXPECT_TRUE(float_boxes_may_overlap(float_box_of(a), float_box_of(b)));
 }
 
+TEST(FloatBox, BoxesTheSweepFindsApartInYAreApart) {
+  // sweep_low(b) > sweep_high(a) must mean float_boxes_may_overlap(a, b) is
+  // false: the cells' sweeps cull such pairs untested. Bounds of a few
+  // values, NaN among them (the sweep takes it as -inf or +inf).
+  const float values[] = {-1.0f, -0.0f, 0.0f, 1.0f, 2.0f, INFINITY, -INFINITY, std::nanf("")};
+  int apart = 0;
+  for (float a_lo : values)
+    for (float a_hi : values)
+      for (float b_lo : values)
+        for (float b_hi : values) {
+          FloatBox a{{0, a_lo, 0}, {1, a_hi, 1}}, b{{0, b_lo, 0}, {1, b_hi, 1}};
+          if (!(sweep_low(b) > sweep_high(a))) continue;
+          ++apart;
+          ASSERT_FALSE(float_boxes_may_overlap(a, b)) << a_lo << " " << a_hi << " " << b_lo << " " << b_hi;
+          ASSERT_FALSE(std::isnan(sweep_low(a)) || std::isnan(sweep_high(b)));
+        }
+  EXPECT_GT(apart, 100);
+}
+
 TEST(BoundingSphere, ContainsItsPoints) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 100; ++trial) {

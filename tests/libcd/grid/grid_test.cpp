@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <random>
 #include <set>
@@ -137,6 +138,55 @@ TEST(PairIndex, TilesHoldEachTestOfTheirRowsOnce) {
   const PairTile last = pair_tile(big, 0, big, tiles - 1);
   EXPECT_EQ(last.column_end, big);
   EXPECT_EQ(last.row_begin, (big - 2) / side * side);
+}
+
+TEST(PairIndex, SweptTilesHoldEachPairThatMeetsInYOnce) {
+  // Items ordered by lower y, with ties and upper bounds that touch the next
+  // lower bounds: each block's tiles (its rows against the column blocks up
+  // to its longest run's end) hold every pair i < j with low[j] <= high[i]
+  // once, the other pairs in them at most once, and swept_block_tests counts them.
+  const std::uint64_t side = kPairTileSide;
+  const std::uint64_t ns[] = {0, 1, 2, 3, side - 1, side, side + 1, side + 2, 2 * side + 1, 5 * side + 7};
+  std::mt19937 rng(11);
+  for (std::uint64_t n : ns) {
+    for (int trial = 0; trial < 12; ++trial) {
+      std::vector<float> low(n), high(n);
+      std::uniform_int_distribution<int> step(0, 2), extent(0, trial % 4 == 0 ? 400 : 6);
+      float y = 0;
+      for (std::uint64_t i = 0; i < n; ++i) {
+        y += static_cast<float>(step(rng));  // 0: a tie with the last
+        low[i] = y;
+        high[i] = y + static_cast<float>(extent(rng));  // may equal a later lower bound exactly
+      }
+      std::vector<int> seen(n * n, 0);
+      std::uint64_t counted = 0, in_tiles = 0;
+      for (std::uint64_t a = 0; a < item_blocks(n); ++a) {
+        const std::uint64_t rows_end = swept_rows_end(n, a);
+        if (rows_end <= a * side) continue;
+        float longest = -INFINITY;
+        for (std::uint64_t i = a * side; i < rows_end; ++i) longest = std::max(longest, high[i]);
+        const std::uint64_t run_end = swept_run_end([&](std::uint64_t j) { return low[j]; }, rows_end, n, longest);
+        const std::uint64_t column_end = swept_column_blocks_end(run_end);
+        ASSERT_GT(column_end, a);
+        ASSERT_LE(column_end, item_blocks(n));
+        counted += swept_block_tests(n, a, column_end);
+        for (std::uint64_t b = a; b < column_end; ++b) {
+          const PairTile tile = swept_tile(n, a, b);
+          for (std::uint64_t i = tile.row_begin; i < tile.row_end; ++i)
+            for (std::uint64_t j = std::max(tile.column_begin, i + 1); j < tile.column_end; ++j) {
+              ++seen[i * n + j];
+              ++in_tiles;
+            }
+        }
+      }
+      EXPECT_EQ(counted, in_tiles) << "n " << n;
+      for (std::uint64_t i = 0; i < n; ++i)
+        for (std::uint64_t j = i + 1; j < n; ++j) {
+          ASSERT_LE(seen[i * n + j], 1) << "n " << n << " pair " << i << ", " << j;
+          if (low[j] <= high[i]) ASSERT_EQ(seen[i * n + j], 1) << "n " << n << " pair " << i << ", " << j;
+        }
+    }
+  }
 }
 
 LeafCells random_leaf(std::mt19937& rng) {
