@@ -200,7 +200,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // registration's scratch are given back now.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   if (!adaptive_)
-    order_registrations_on_device(b.subdivision.leaves.data(), triangle_count, b.bounds.triangle_boxes.data(),
+    order_registrations_on_device(b.subdivision.leaves.data(), b.bounds.triangle_boxes.data(),
                                   b.cells, grid, b.pairs, stream,
                                   budget_check("copy of the leaves for the pair tests"));
   if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
@@ -210,8 +210,10 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   std::size_t key_room = ~std::size_t{0};
   candidate_room_ = ~std::size_t{0};
   if (budget_ > 0) {
-    const std::size_t fixed = held_bytes() - chunk_bytes() + (test_cells + 1) * 3 * sizeof(std::uint64_t) +
-                              (std::size_t{4} << 20);  // counters, histogram, sort scratch
+    const std::size_t numbering = adaptive_ ? (test_cells + 1) * 3 * sizeof(std::uint64_t)
+                                            : uniform_numbering_bytes(test_cells, b.pairs.registered.size());
+    const std::size_t fixed =
+        held_bytes() - chunk_bytes() + numbering + (std::size_t{4} << 20);  // counters, histogram, sort scratch
     if (fixed >= budget_)
       throw UsageError("the device memory limit is too small for this scene: the broad phase holds " +
                        std::to_string(fixed) + " bytes before its pair tests, its share of the limit is " +
@@ -454,6 +456,11 @@ void for_each_chunk_buffer(CudaBroadPhaseBuffers& b, Visit visit) {
   visit(p.first_tile);
   visit(p.row_begin);
   visit(p.row_end);
+  visit(p.cell_pairs);
+  visit(p.cell_blocks);
+  visit(p.first_block);
+  visit(p.block_cell);
+  visit(p.block_roots);
   visit(f.tally);
   visit(f.kept);
   for (DeviceBuffer<std::uint64_t>* keys : {&f.vf_keys, &f.ee_keys, &f.vf_sorted, &f.ee_sorted}) visit(*keys);

@@ -1,15 +1,21 @@
 // The candidate tests on the GPU, mirroring step 5-6 of
-// libcd/broad_phase/virtual_subdivision_grid.cpp: each cell's tests are cut
-// into square tiles (grid/pair_index.hpp) whose per-cell counts are
-// prefix-summed; a block finds its tile's cell from the sums, reads the
-// tile's two runs of leaves (from a copy of them in cell order, coalesced)
-// and their roots' float boxes into shared memory once, and its threads run
-// the tile's tests from there with the same filters as the CPU (same root,
-// time slots, control bits and extended control bits, root 18-DOPs),
-// appending the root pairs; a device sort + unique gives the exact set of
-// triangle pairs, ordered as the CPU's. The adaptive grid's test cells
-// (adaptive_cells.cuh) run through the same tiles, with the CPU adaptive
-// grid's rule (the cell that owns a pair tests it; leaf and root DOPs).
+// libcd/broad_phase/virtual_subdivision_grid.cpp: each uniform cell's leaves
+// are ordered by the lower y of their root's float box, and a leaf is tested
+// only against those after it up to the first whose lower y passes its upper
+// y (the cell's other pairs are apart in y: culled by their boxes untested,
+// as on the CPU). The cell's tests are cut into square tiles
+// (grid/pair_index.hpp, swept cells): a block of 64 leaves meets the blocks
+// from its own to the last its rows' runs reach, each tile's count prefix
+// summed; a block of threads finds its tile from the sums, reads the tile's
+// two runs of leaves (from a copy of them in cell order, coalesced) and their
+// roots' float boxes into shared memory once, and its threads run the tile's
+// tests from there with the same filters as the CPU (same root, time slots,
+// control bits and extended control bits, root 18-DOPs), appending the root
+// pairs; a device sort + unique gives the exact set of triangle pairs,
+// ordered as the CPU's. The adaptive grid's test cells (adaptive_cells.cuh)
+// run through the same tiles (every pair of a cell's stuck members' rows),
+// with the CPU adaptive grid's rule (the cell that owns a pair tests it; leaf
+// and root DOPs).
 #pragma once
 
 #include <cuda_runtime_api.h>
@@ -39,17 +45,32 @@ struct UniformTileMember {
   LocalCells cells;
 };
 
+/// The smallest and largest root of a block of a uniform cell's leaves
+/// (kPairTileSide of them, grid/pair_index.hpp): a tile whose pairs' smaller
+/// root cannot lie in a pass's root range is skipped whole.
+struct BlockRoots {
+  Index low, high;
+};
+
 /// Buffers of the pair stage, reused across calls (they only grow).
 struct DevicePairs {
-  DeviceBuffer<RegisteredLeaf> registered;  ///< cell by cell, each cell's by root triangle
+  /// Cell by cell, each cell's by the lower y of the root's float box (sweep_low).
+  DeviceBuffer<RegisteredLeaf> registered;
   /// registered[r] in its cell, and its root's float box (both in the order of registered).
   DeviceBuffer<UniformTileMember> tile_members;
   DeviceBuffer<FloatBox> tile_boxes;
   DeviceBuffer<std::uint64_t> order_keys, order_keys_spare;  ///< the registrations' sort
   DeviceBuffer<std::uint32_t> order_ids, order_ids_spare;
-  DeviceBuffer<std::uint64_t> cell_tests, test_total;  ///< a chunk's tests per cell, and their sum (one value)
-  DeviceBuffer<std::uint64_t> cell_tiles, first_tile;  ///< a chunk's tiles per cell (grid/pair_index.hpp)
-  DeviceBuffer<std::uint64_t> row_begin, row_end;      ///< a chunk's rows [begin, end) of each cell
+  /// The tests in the tiles of each unit (a uniform cell's block of leaves,
+  /// an adaptive cell) and their sum; test_total[1]: every pair of the
+  /// uniform cells, tested or not.
+  DeviceBuffer<std::uint64_t> cell_tests, test_total;
+  DeviceBuffer<std::uint64_t> cell_tiles, first_tile;  ///< tiles per unit, and their exclusive sum
+  DeviceBuffer<std::uint64_t> row_begin, row_end;      ///< an adaptive cell's rows [begin, end)
+  /// A uniform cell's every pair and blocks, and the blocks' exclusive sum.
+  DeviceBuffer<std::uint64_t> cell_pairs, cell_blocks, first_block;
+  DeviceBuffer<std::uint32_t> block_cell;  ///< a block's cell
+  DeviceBuffer<BlockRoots> block_roots;
   DeviceBuffer<std::uint64_t> kept, culled, sorted;  ///< kept and sorted: the sort's two halves
   DeviceBuffer<TrianglePair> pairs;  ///< the result of a chunk: unique root pairs, ascending
   DeviceBuffer<unsigned long long> counters;
@@ -60,15 +81,23 @@ struct DevicePairs {
       : registered(0, stream), tile_members(0, stream), tile_boxes(0, stream), order_keys(0, stream),
         order_keys_spare(0, stream), order_ids(0, stream), order_ids_spare(0, stream), cell_tests(0, stream),
         test_total(0, stream), cell_tiles(0, stream), first_tile(0, stream), row_begin(0, stream),
-        row_end(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream), pairs(0, stream),
-        counters(0, stream), histogram(0, stream), temp(0, stream) {}
+        row_end(0, stream), cell_pairs(0, stream), cell_blocks(0, stream), first_block(0, stream),
+        block_cell(0, stream), block_roots(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream),
+        pairs(0, stream), counters(0, stream), histogram(0, stream), temp(0, stream) {}
 
-  /// Bytes of the per-cell numbering of a chunk's tests and tiles.
+  /// Bytes of the numbering of the tests and tiles.
   std::size_t cell_test_bytes() const {
     return cell_tests.capacity_bytes() + test_total.capacity_bytes() + cell_tiles.capacity_bytes() +
-           first_tile.capacity_bytes() + row_begin.capacity_bytes() + row_end.capacity_bytes();
+           first_tile.capacity_bytes() + row_begin.capacity_bytes() + row_end.capacity_bytes() +
+           cell_pairs.capacity_bytes() + cell_blocks.capacity_bytes() + first_block.capacity_bytes() +
+           block_cell.capacity_bytes() + block_roots.capacity_bytes();
   }
 };
+
+/// Device bytes of the numbering of the tests and tiles of `cells` uniform
+/// cells holding `registrations` leaves (an upper bound: their blocks are
+/// counted as at most one a cell more than registrations / kPairTileSide).
+std::size_t uniform_numbering_bytes(std::size_t cells, std::size_t registrations);
 
 /// Device bytes per kept test of a chunk: its key, the sort's second half,
 /// its unique pair (the sort's scratch is small beside them).
@@ -86,7 +115,8 @@ struct RootRange {
 /// more, the tests are split by the smaller root triangle of each pair into
 /// ranges (RootRange) of at most key_room kept tests each, read from a
 /// histogram of the kept tests over the range, and every range runs as a pass
-/// of its own: every test, only those of the range kept. Ranges are disjoint
+/// of its own: every tile that may hold a test of the range, only the range's
+/// tests run and kept. Ranges are disjoint
 /// and ascending, so the chunks' unique pairs, one after the other, are the
 /// sorted unique pairs of the whole set, and every count is the sum over
 /// chunks. `plan` holds the ranges of the last call and is tried first (a scan's
@@ -98,22 +128,23 @@ struct PairChunkPlan {
 };
 
 /// Copies the registered leaves into pairs.registered, cell by cell and each
-/// cell's by root triangle (stable; roots below triangle_count), with each
+/// cell's by the lower y of its root's float box (sweep_low; stable), with each
 /// one's UniformTileMember in the grid's cell it is registered in and its
 /// root's float box (triangle_boxes, #F) beside it, which is all the pair
 /// tests read of them: the leaves and the registration's scratch may be
 /// given back after it (in stream order). `check` is told what its buffers
 /// add before they allocate (it may throw). Throws CudaError, or what `check`
 /// throws.
-void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
+void order_registrations_on_device(const Leaf* leaves, const FloatBox* triangle_boxes,
                                    const DeviceCellLists& lists, const GridSpec& grid, DevicePairs& pairs,
                                    cudaStream_t stream, const GrowthCheck& check = {});
 
-/// Runs every test of the registered cells (pairs.registered and the rest,
+/// Runs the tests of the registered cells (pairs.registered and the rest,
 /// from order_registrations_on_device with the same grid and boxes) and
 /// hands the unique triangle pairs to `visit` chunk by chunk (see PairChunkPlan), each chunk's pairs
 /// ascending and the chunks in ascending order; the device array passed to
-/// visit is valid until it returns. Fills stats' test counters,
+/// visit is valid until it returns. Fills stats' test counters (a cell's
+/// pairs apart in y, untested, count in culled_by_boxes: the CPU's counts),
 /// culled_by_dop, duplicate_root_pair_tests, duplicate_culled_tests (when
 /// count_culled: the culled tests' keys are then kept, see
 /// BroadPhaseSettings; their room is not bounded by the plan) and
