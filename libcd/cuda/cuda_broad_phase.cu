@@ -200,7 +200,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // registration's scratch are given back now.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   if (!adaptive_)
-    order_registrations_on_device(b.subdivision.leaves.data(), b.bounds.triangle_boxes.data(),
+    order_registrations_on_device(b.subdivision.leaves.data(), triangle_count, b.bounds.triangle_boxes.data(),
                                   b.cells, grid, b.pairs, stream,
                                   budget_check("copy of the leaves for the pair tests"));
   if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
@@ -361,8 +361,10 @@ void CudaBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<Trian
   buffers_->x_t0.upload(x);
   pairs.clear();
   detect_static_on_device(buffers_->x_t0.data(), stream_, [&](const DeviceCandidates& chunk) {
-    append_download(chunk.pairs, chunk.pair_count, pairs, stream_);  // chunks ascend
+    append_download(chunk.pairs, chunk.pair_count, pairs, stream_);
   });
+  // Chunks are sorted each (the uniform grid's cover ranges of its sweep order): the whole sorted as the CPU's.
+  if (last_chunks_ > 1) std::sort(pairs.begin(), pairs.end());
 }
 
 std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census() const {
@@ -401,6 +403,8 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
                                       p.tile_boxes.capacity_bytes());
   add("pairs: registered leaves' sort", p.order_keys.capacity_bytes() + p.order_keys_spare.capacity_bytes() +
                                            p.order_ids.capacity_bytes() + p.order_ids_spare.capacity_bytes());
+  add("pairs: triangles' sweep ranks and their sort",
+      p.triangle_rank.capacity_bytes() + p.rank_keys.capacity_bytes() + p.rank_keys_spare.capacity_bytes());
   add("pairs: cell tests and tiles", p.cell_test_bytes());
   add("pairs: kept test keys (chunk)", p.kept.capacity_bytes());
   add("pairs: sorted keys (chunk)", p.sorted.capacity_bytes());
@@ -460,7 +464,6 @@ void for_each_chunk_buffer(CudaBroadPhaseBuffers& b, Visit visit) {
   visit(p.cell_blocks);
   visit(p.first_block);
   visit(p.block_cell);
-  visit(p.block_roots);
   visit(f.tally);
   visit(f.kept);
   for (DeviceBuffer<std::uint64_t>* keys : {&f.vf_keys, &f.ee_keys, &f.vf_sorted, &f.ee_sorted}) visit(*keys);
@@ -493,6 +496,8 @@ void CudaBroadPhase::release_stage_buffers() {
   b.pairs.order_keys_spare.release();
   b.pairs.order_ids.release();
   b.pairs.order_ids_spare.release();
+  b.pairs.rank_keys.release();
+  b.pairs.rank_keys_spare.release();
 }
 
 void CudaBroadPhase::release_buffers() {

@@ -106,7 +106,8 @@ class CudaBroadPhase final : public BroadPhase {
   void detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, const CandidateVisitor& visit,
                             bool sorted = true, const CcdSettings* screen = nullptr, std::size_t screen_above = 0);
   /// Static triangle pairs for #V device positions d_x (DeviceCandidates::pairs
-  /// only), chunk by chunk in ascending order.
+  /// only), chunk by chunk, each chunk's ascending (the uniform grid's chunks
+  /// are ranges of its sweep order, not of the pairs: see PairChunkPlan).
   void detect_static_on_device(const Vec3* d_x, cudaStream_t stream, const CandidateVisitor& visit);
 
   /// The most device bytes this broad phase's buffers may hold during a

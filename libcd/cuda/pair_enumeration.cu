@@ -6,9 +6,12 @@
 // chapter, section 5.3.3 (control bits, extended control bits).
 // Primitives: CUB DeviceScan, DeviceRadixSort, DeviceSelect::Unique.
 //
-// Chunks: a pass over a root range [lo, hi) runs the tests whose smaller root
-// lies in it, and skips the tiles whose two blocks' roots (BlockRoots) rule
-// them all out; all chunks together run each test once.
+// Chunks (uniform grid): a pass over a range [lo, hi) of the sweep order's
+// ranks runs the rows of each cell whose root's rank lies in it (a cell's
+// leaves ascend by rank, so they are contiguous) against the leaves after
+// them: the pairs whose earlier leaf's root has its rank in the range. A root
+// pair's leaves come in the same order in every cell that tests it, so all
+// of its tests fall in one pass; all passes together run each test once.
 #include "libcd/cuda/pair_enumeration.cuh"
 
 #include <cub/device/device_reduce.cuh>
@@ -46,19 +49,38 @@ using detail::unpack_key;
 /// filter counts (a swept cell leaves most of them untested).
 enum Counter { kSameRoot, kTimeSlots, kControlBits, kExtended, kFallback, kPassed, kKept, kCulled, kCounters };
 
-/// The bits of the sweep's order within a cell in its registrations' sort keys.
-constexpr int kSweepBits = 32;
+/// Throws UsageError when triangles or cells cannot be numbered in 32 bits.
+void check_id_range(std::size_t triangle_count, std::size_t cells) {
+  if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
+    throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
+}
 
-/// Sort keys of the registrations: cell rank above, the lower y of the
-/// root's float box below (sweep_low, pack_key); the values are the leaf ids.
+/// Sort keys of the triangles in the sweep order: the lower y of each one's
+/// float box (order_key of sweep_low) above its id (pack_key, in id_bits).
+__global__ void rank_keys_kernel(const FloatBox* boxes, std::size_t count, int id_bits, std::uint64_t* keys) {
+  const std::uint64_t f = thread_item();
+  if (f < count) keys[f] = pack_key(order_key(sweep_low(boxes[f])), static_cast<std::uint32_t>(f), id_bits);
+}
+
+/// rank[f] = k where the k-th of the sorted keys is triangle f's.
+__global__ void rank_scatter_kernel(const std::uint64_t* sorted, std::size_t count, int id_bits, std::uint32_t* rank) {
+  const std::uint64_t k = thread_item();
+  if (k >= count) return;
+  std::uint32_t low_y = 0, f = 0;
+  unpack_key(sorted[k], id_bits, low_y, f);
+  rank[f] = static_cast<std::uint32_t>(k);
+}
+
+/// Sort keys of the registrations: cell rank above, the rank of the root
+/// below (pack_key, in rank_bits); the values are the leaf ids.
 __global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t* first, std::size_t cells,
                                          const std::uint32_t* cell_leaves, std::size_t count,
-                                         const FloatBox* triangle_boxes, std::uint64_t* keys, std::uint32_t* ids) {
+                                         const std::uint32_t* triangle_rank, int rank_bits, std::uint64_t* keys,
+                                         std::uint32_t* ids) {
   const std::uint64_t r = thread_item();
   if (r >= count) return;
   const std::uint64_t c = cell_of_work_item(first, cells, r);
-  const float low = sweep_low(triangle_boxes[leaves[cell_leaves[r]].triangle.root]);
-  keys[r] = pack_key(c, order_key(low), kSweepBits);
+  keys[r] = pack_key(c, triangle_rank[leaves[cell_leaves[r]].triangle.root], rank_bits);
   ids[r] = cell_leaves[r];
 }
 
@@ -68,7 +90,7 @@ __global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t
 /// piece (a record stored by itself lies 92, 28 or 24 bytes from its
 /// neighbours').
 __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t* ids, const std::uint64_t* keys,
-                                         const std::uint64_t* cell_ids, GridSpec grid,
+                                         int rank_bits, const std::uint64_t* cell_ids, GridSpec grid,
                                          const FloatBox* triangle_boxes, std::size_t count, RegisteredLeaf* out,
                                          UniformTileMember* tile_members, FloatBox* tile_boxes) {
   __shared__ detail::WarpRunStage<RegisteredLeaf, detail::kBlockSize> stage;
@@ -80,7 +102,7 @@ __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t
   FloatBox box{};
   if (r < count) {
     record = registered_leaf(leaves[ids[r]]);
-    const CellCoord cell = grid_cell_coord(grid, cell_ids[keys[r] >> kSweepBits]);
+    const CellCoord cell = grid_cell_coord(grid, cell_ids[keys[r] >> rank_bits]);
     member = {record.root, record.slot_depth, record.slot_index, local_cells(record.cells, cell)};
     box = triangle_boxes[record.root];
   }
@@ -89,27 +111,46 @@ __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t
   box_stage.write(box, r, count, tile_boxes);
 }
 
-/// Each uniform cell's pairs and blocks of leaves (grid/pair_index.hpp);
-/// pairs[cells] = blocks[cells] = 0.
-__global__ void cell_blocks_kernel(const std::uint64_t* first, std::size_t cells, std::uint64_t* pairs,
-                                   std::uint64_t* blocks) {
+/// The first of a cell's leaves (ascending by their root's rank) whose root's rank is at least `rank`.
+__device__ std::uint64_t first_with_rank(const UniformTileMember* members, const std::uint32_t* triangle_rank,
+                                         std::uint64_t begin, std::uint64_t end, std::uint32_t rank) {
+  while (begin < end) {
+    const std::uint64_t mid = begin + (end - begin) / 2;
+    if (triangle_rank[members[mid].root] < rank) begin = mid + 1; else end = mid;
+  }
+  return begin;
+}
+
+/// Each uniform cell's rows [row_begin, row_end) of a pass over the ranks
+/// [lo, hi) (its leaves whose root's rank lies there), its every pair and
+/// its blocks of leaves (grid/pair_index.hpp); pairs[cells] = blocks[cells] = 0.
+__global__ void cell_rows_kernel(const std::uint64_t* first, std::size_t cells, const UniformTileMember* members,
+                                 const std::uint32_t* triangle_rank, std::uint32_t lo, std::uint32_t hi,
+                                 std::uint64_t* row_begin, std::uint64_t* row_end, std::uint64_t* pairs,
+                                 std::uint64_t* blocks) {
   const std::uint64_t c = thread_item();
   if (c > cells) return;
-  const std::uint64_t n = c < cells ? first[c + 1] - first[c] : 0;
+  if (c == cells) {
+    pairs[c] = blocks[c] = 0;
+    return;
+  }
+  const std::uint64_t begin = first[c], end = first[c + 1], n = end - begin;
+  row_begin[c] = first_with_rank(members, triangle_rank, begin, end, lo) - begin;
+  row_end[c] = first_with_rank(members, triangle_rank, begin, end, hi) - begin;
   pairs[c] = pair_count(n);
   blocks[c] = item_blocks(n);
 }
 
 /// Each block u < units of the uniform cells' leaves (first_block: the
 /// blocks' exclusive sum over the cells; from first_block[cells] on, none):
-/// its cell, its leaves' smallest and largest root, and its tiles and the
-/// tests in them (the swept cells of grid/pair_index.hpp: its rows' longest
-/// run ends at the first leaf after them whose lower y passes the largest
-/// upper y of the rows); tiles[units] = tests[units] = 0.
+/// its cell, and its tiles and the tests in them for its cell's rows of the
+/// pass (the swept cells of grid/pair_index.hpp: the rows' longest run ends
+/// at the first leaf after them whose lower y passes their largest upper y);
+/// tiles[units] = tests[units] = 0.
 __global__ void block_tiles_kernel(const std::uint64_t* first, std::size_t cells, const std::uint64_t* first_block,
-                                   const UniformTileMember* members, const FloatBox* boxes, std::size_t units,
-                                   std::uint64_t* tiles, std::uint64_t* tests, std::uint32_t* block_cell,
-                                   BlockRoots* block_roots) {
+                                   const std::uint64_t* row_begin, const std::uint64_t* row_end,
+                                   const FloatBox* boxes, std::size_t units, std::uint64_t* tiles,
+                                   std::uint64_t* tests, std::uint32_t* block_cell) {
   const std::uint64_t u = thread_item();
   if (u > units) return;
   tiles[u] = tests[u] = 0;
@@ -117,23 +158,16 @@ __global__ void block_tiles_kernel(const std::uint64_t* first, std::size_t cells
   const std::uint64_t c = cell_of_work_item(first_block, cells, u);
   const std::uint64_t a = u - first_block[c], begin = first[c], n = first[c + 1] - begin;
   block_cell[u] = static_cast<std::uint32_t>(c);
-  const std::uint64_t items_begin = a * kPairTileSide, items_end = ::min(items_begin + kPairTileSide, n);
-  BlockRoots roots{members[begin + items_begin].root, members[begin + items_begin].root};
-  for (std::uint64_t i = items_begin + 1; i < items_end; ++i) {
-    roots.low = ::min(roots.low, members[begin + i].root);
-    roots.high = ::max(roots.high, members[begin + i].root);
-  }
-  block_roots[u] = roots;
-  const std::uint64_t rows_end = swept_rows_end(n, a);
-  if (rows_end <= items_begin) return;  // only the cell's last leaf: no row
+  const SweptRows rows = swept_rows(n, a, row_begin[c], row_end[c]);
+  if (rows.begin >= rows.end) return;
   float high = -INFINITY;
-  for (std::uint64_t i = items_begin; i < rows_end; ++i) high = ::fmaxf(high, sweep_high(boxes[begin + i]));
+  for (std::uint64_t i = rows.begin; i < rows.end; ++i) high = ::fmaxf(high, sweep_high(boxes[begin + i]));
   const FloatBox* cell_boxes = boxes + begin;
   const std::uint64_t run_end =
-      swept_run_end([cell_boxes](std::uint64_t j) { return sweep_low(cell_boxes[j]); }, rows_end, n, high);
+      swept_run_end([cell_boxes](std::uint64_t j) { return sweep_low(cell_boxes[j]); }, rows.end, n, high);
   const std::uint64_t column_end = swept_column_blocks_end(run_end);
   tiles[u] = column_end - a;
-  tests[u] = swept_block_tests(n, a, column_end);
+  tests[u] = swept_rows_tests(n, rows, column_end);
 }
 
 /// Tests of each adaptive test cell: the rows of its stuck members, [0,
@@ -201,7 +235,7 @@ SNAG_HD_INLINE bool slots_nested(const UniformTileMember& a, const UniformTileMe
 }
 
 /// A tile of the test kernel: its cell and its rows and columns there, and
-/// whether no test of it lies in the pass's root range.
+/// whether no test of it lies in the pass's range.
 struct TileAt {
   std::uint64_t cell;
   PairTile tile;
@@ -210,7 +244,7 @@ struct TileAt {
 
 /// The uniform grid's cells as the tile kernel reads them: members are the
 /// registered leaves, each cell's swept along y in blocks (grid/pair_index.hpp;
-/// block_tiles_kernel numbers their tiles), the VSS control bits decide which
+/// block_tiles_kernel numbers the tiles of a pass's rows), the VSS control bits decide which
 /// cell tests a pair (by the leaves' masks around the cell, or by their
 /// LeafCells where a block is wide), and the roots' DOPs alone decide what is kept.
 struct UniformTileCells {
@@ -227,22 +261,28 @@ struct UniformTileCells {
   GridSpec grid;
   const std::uint64_t* first_block;  ///< the cells' blocks' exclusive sum
   const std::uint32_t* block_cell;
-  const BlockRoots* block_roots;
   const std::uint64_t* first_tile;  ///< the blocks' tiles' exclusive sum
   std::uint64_t units;              ///< the blocks numbered (some past the last may have no tile)
+  const std::uint64_t* row_begin;   ///< a cell's rows [begin, end) in the pass
+  const std::uint64_t* row_end;
+  const std::uint32_t* triangle_rank;
 
   __device__ std::uint64_t tile_count() const { return first_tile[units]; }
   /// Tile t, whose block is found from block `unit` (an earlier tile's) on
-  /// (cell_of_work_item_from; `unit` becomes t's). Skipped when the smaller
-  /// root of each of its pairs lies outside [lo, hi): that root lies between
-  /// the smaller of its two blocks' smallest roots and the smaller of their
-  /// largest.
-  __device__ TileAt locate(std::uint64_t t, std::uint64_t& unit, std::uint32_t lo, std::uint32_t hi) const {
+  /// (cell_of_work_item_from; `unit` becomes t's): the block's rows of the
+  /// pass against its cell's column block b. A pass's tiles hold only its tests.
+  __device__ TileAt locate(std::uint64_t t, std::uint64_t& unit, std::uint32_t, std::uint32_t) const {
     unit = cell_of_work_item_from(first_tile, units, unit, t);
     const std::uint64_t c = block_cell[unit], a = unit - first_block[c], b = a + (t - first_tile[unit]);
-    const BlockRoots rows = block_roots[unit], columns = block_roots[first_block[c] + b];
-    const bool holds = ::min(rows.low, columns.low) < hi && ::min(rows.high, columns.high) >= lo;
-    return {c, swept_tile(size(c), a, b), !holds};
+    const std::uint64_t n = size(c);
+    return {c, swept_tile(n, swept_rows(n, a, row_begin[c], row_end[c]), b), false};
+  }
+  /// A pass's rows hold only its tests: their roots' ranks lie in its range.
+  static constexpr bool kRowsInRange = true;
+  /// Where a test of roots low < high lies in the chunk order: the rank of
+  /// the earlier of the two in the sweep order.
+  __device__ std::uint32_t chunk_key(Index low, Index high) const {
+    return ::min(triangle_rank[low], triangle_rank[high]);
   }
 
   __device__ std::uint64_t begin(std::uint64_t c) const { return first[c]; }
@@ -318,6 +358,10 @@ struct AdaptiveTileCells {
   }
   /// Members ascend by root (stuck ones, then pushed ones), not by lower y.
   static constexpr bool kSwept = false;
+  /// Stuck members' rows meet pushed members of any root.
+  static constexpr bool kRowsInRange = false;
+  /// Where a test of roots low < high lies in the chunk order: its smaller root.
+  __device__ std::uint32_t chunk_key(Index low, Index) const { return low; }
   /// False when no test of the tile of cell c has its smaller root in [lo,
   /// hi). A cell's stuck and pushed members each ascend by root, so the rows
   /// (stuck) and the columns (one run or two) span known roots, and the
@@ -370,8 +414,8 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// then same root, time slots and the cell's rule (Cells: UniformTileCells,
 /// AdaptiveTileCells), then the roots' DOPs (the boxes' and the DOPs' test
 /// give the DOPs' answer together, see float_box.hpp). Only the tests whose
-/// smaller root lies in [range_first, range_end) run, and a tile that
-/// Cells::locate rules out is skipped whole. A round's tests whose boxes meet
+/// chunk key (Cells::chunk_key) lies in [range_first, range_end) run, and a
+/// tile that Cells::locate rules out is skipped whole. A round's tests whose boxes meet
 /// (8 to 17% on cloth_ball and its refinements) wait in their warp's list of
 /// the tile's (row, column) until
 /// it holds 32, whose rules the warp then runs with all its lanes (the last
@@ -380,7 +424,7 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// instructions, H200). The tests they pass wait in a second list until it
 /// holds 32, whose roots' DOPs the warp then tests with all its lanes
 /// (across tiles; the last ones at the end). Each kept
-/// test adds one to its smaller root's bucket of the histogram over the range
+/// test adds one to its chunk key's bucket of the histogram over the range
 /// (in shared memory, added to `histogram` once per block). Counters are summed
 /// in registers and added with one atomic per warp at the end; kept root pairs
 /// are written 32 at a time with one atomic (with count_culled, culled ones
@@ -454,7 +498,7 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
       unpack_key(key, key_bits, low, high);
       if (dop_overlap(triangle_dops[low], triangle_dops[high])) {
         keep = true;
-        atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
+        atomicAdd(&block_histogram[(source.chunk_key(low, high) - range_first) / bucket_width], 1u);
       } else {
         cull = true;
       }
@@ -543,12 +587,14 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
       record_cull(cull, key);
     };
     // The first filter of the test of a row (root ra, float box `box`)
-    // against `column`: whether it is this pass's test (its smaller root in
-    // the range) and the roots' float boxes meet.
+    // against `column`: whether it is this pass's test (its chunk key in the
+    // range, as in every test of rows in range) and the roots' float boxes meet.
     auto boxes_meet = [&](Index ra, const FloatBox& box, unsigned column) {
-      const Index rb = columns.members[column].root;
-      const Index low = ra < rb ? ra : rb;
-      if (low < range_first || low >= range_end) return false;  // another chunk's test
+      if (!Cells::kRowsInRange) {
+        const Index rb = columns.members[column].root;
+        const std::uint32_t key = source.chunk_key(ra < rb ? ra : rb, ra < rb ? rb : ra);
+        if (key < range_first || key >= range_end) return false;  // another chunk's test
+      }
       return float_boxes_may_overlap(box, columns.boxes[column]);
     };
     // One test of the tile; every thread of the block calls it once per
@@ -699,8 +745,8 @@ std::vector<RootRange> split_range(RootRange range, const std::vector<unsigned>&
     const std::uint64_t count = histogram[k];
     if (count > key_room) {
       if (bucket_width == 1)
-        throw UsageError("the device memory limit is too small for this scene: triangle " + std::to_string(lo) +
-                         " alone has " + std::to_string(count) + " pair tests to keep, a chunk of the limit holds " +
+        throw UsageError("the device memory limit is too small for this scene: one triangle alone has " +
+                         std::to_string(count) + " pair tests to keep, a chunk of the limit holds " +
                          std::to_string(key_room) + "; raise the limit (snag-scan --device-memory)");
       if (start < lo) parts.push_back({start, lo});
       parts.push_back({lo, hi});
@@ -721,44 +767,54 @@ std::vector<RootRange> split_range(RootRange range, const std::vector<unsigned>&
 
 }  // namespace
 
-void order_registrations_on_device(const Leaf* leaves, const FloatBox* triangle_boxes,
+void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
                                    const DeviceCellLists& lists, const GridSpec& grid, DevicePairs& p,
                                    cudaStream_t stream, const GrowthCheck& check) {
   const std::size_t cells = lists.cells;
   const std::size_t registrations = lists.leaves.size();
+  check_id_range(triangle_count, cells);
   check_growth(check, p.registered.growth_bytes(registrations) + p.tile_members.growth_bytes(registrations) +
                           p.tile_boxes.growth_bytes(registrations) + p.order_keys.growth_bytes(registrations) +
                           p.order_keys_spare.growth_bytes(registrations) + p.order_ids.growth_bytes(registrations) +
-                          p.order_ids_spare.growth_bytes(registrations));
+                          p.order_ids_spare.growth_bytes(registrations) + p.triangle_rank.growth_bytes(triangle_count) +
+                          p.rank_keys.growth_bytes(triangle_count) + p.rank_keys_spare.growth_bytes(triangle_count));
   p.registered.resize(registrations);
   p.tile_members.resize(registrations);
   p.tile_boxes.resize(registrations);
   if (registrations == 0) return;
+  // The triangles' ranks in the sweep order.
+  p.triangle_rank.resize(triangle_count);
+  p.rank_keys.resize(triangle_count);
+  p.rank_keys_spare.resize(triangle_count);
+  const int rank_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0);
+  rank_keys_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(triangle_boxes, triangle_count,
+                                                                                  rank_bits, p.rank_keys.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+  cub::DoubleBuffer<std::uint64_t> rank_keys(p.rank_keys.data(), p.rank_keys_spare.data());
+  radix_sort_keys(rank_keys, triangle_count, 32 + rank_bits, p.temp, stream, check);
+  rank_scatter_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(
+      rank_keys.Current(), triangle_count, rank_bits, p.triangle_rank.data());
+  SNAG_CUDA_CHECK_LAUNCH();
+  // The registrations by cell, then by their root's rank.
   p.order_keys.resize(registrations);
   p.order_keys_spare.resize(registrations);
   p.order_ids.resize(registrations);
   p.order_ids_spare.resize(registrations);
   registration_keys_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-      leaves, lists.first.data(), cells, lists.leaves.data(), registrations, triangle_boxes, p.order_keys.data(),
-      p.order_ids.data());
+      leaves, lists.first.data(), cells, lists.leaves.data(), registrations, p.triangle_rank.data(), rank_bits,
+      p.order_keys.data(), p.order_ids.data());
   SNAG_CUDA_CHECK_LAUNCH();
   cub::DoubleBuffer<std::uint64_t> keys(p.order_keys.data(), p.order_keys_spare.data());
   cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
-  radix_sort_pairs(keys, ids, registrations, kSweepBits + radix_bits(cells > 0 ? cells - 1 : 0), p.temp, stream,
+  radix_sort_pairs(keys, ids, registrations, rank_bits + radix_bits(cells > 0 ? cells - 1 : 0), p.temp, stream,
                    check);
   gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-      leaves, ids.Current(), keys.Current(), lists.cell_ids.data(), grid, triangle_boxes, registrations,
+      leaves, ids.Current(), keys.Current(), rank_bits, lists.cell_ids.data(), grid, triangle_boxes, registrations,
       p.registered.data(), p.tile_members.data(), p.tile_boxes.data());
   SNAG_CUDA_CHECK_LAUNCH();
 }
 
 namespace {
-
-/// Throws UsageError when triangles or cells cannot be numbered in 32 bits.
-void check_id_range(std::size_t triangle_count, std::size_t cells) {
-  if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
-    throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
-}
 
 /// Sum of values[0, count) into *total, on the stream.
 void device_sum(const std::uint64_t* values, std::size_t count, std::uint64_t* total, DevicePairs& p,
@@ -772,12 +828,12 @@ void device_sum(const std::uint64_t* values, std::size_t count, std::uint64_t* t
 
 /// The pair tests of `source` (UniformTileCells, AdaptiveTileCells), whose
 /// tiles are numbered by `units` units (a uniform cell's blocks, an adaptive
-/// cell), pass by pass over root ranges (PairChunkPlan). number_units()
-/// fills p.cell_tests and p.cell_tiles (units + 1 each, the last 0: each
-/// unit's tests in tiles and tiles) and, for `pair_cells` > 0 cells,
-/// p.cell_pairs (pair_cells + 1): their every pair, tested in a tile or not
-/// (else every pair lies in a tile); the numbering holds for every range.
-/// As enumerate_pairs_on_device otherwise.
+/// cell), pass by pass over ranges of the chunk order (PairChunkPlan).
+/// number_units(range) fills p.cell_tests and p.cell_tiles for a pass over
+/// `range` (units + 1 each, the last 0: each unit's tests in tiles and
+/// tiles) and, for `pair_cells` > 0 cells, p.cell_pairs (pair_cells + 1):
+/// their every pair, tested in a tile or not (else every pair lies in a
+/// tile). As enumerate_pairs_on_device otherwise.
 template <class Cells, class NumberUnits>
 void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cells, const NumberUnits& number_units,
                     const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::size_t triangle_count,
@@ -788,8 +844,8 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
   p.histogram.resize(kHistogramBuckets);
   p.test_total.resize(2);
 
-  // The tests in tiles and the tiles, numbered unit by unit (first_tile),
-  // and every pair of the cells.
+  // The tests in tiles and the tiles of a range, numbered unit by unit
+  // (first_tile), and every pair of the cells.
   struct Numbered {
     std::uint64_t tests = 0, tiles = 0, pairs = 0;
     bool known = false;  ///< read back (else only on the device, in test_total and first_tile[units])
@@ -801,8 +857,8 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
     counts.known = true;
   };
   // `read`: wait for the counts; else they are read with the first pass's counters.
-  auto number_tests = [&](bool read) {
-    number_units();
+  auto number_tests = [&](RootRange range, bool read) {
+    number_units(range);
     device_sum(p.cell_tests.data(), units + 1, p.test_total.data(), p, stream);
     if (pair_cells > 0) device_sum(p.cell_pairs.data(), pair_cells + 1, p.test_total.data() + 1, p, stream);
     exclusive_sum(p.cell_tiles.data(), p.first_tile.data(), units + 1, p.temp, stream);
@@ -824,7 +880,7 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
   std::deque<RootRange> todo(plan.ranges.begin(), plan.ranges.end());
   if (todo.empty() || todo.front().first != 0 || todo.back().end != triangle_end) todo.assign(1, {0, triangle_end});
   plan.ranges.clear();
-  Numbered whole_set = number_tests(p.kept.capacity() == 0 || count_culled || todo.size() > 1);
+  Numbered whole_set = number_tests({0, triangle_end}, p.kept.capacity() == 0 || count_culled || todo.size() > 1);
   if (p.sorted.capacity() > key_room) p.sorted.release();
   if (p.pairs.capacity() > key_room) p.pairs.release();
 
@@ -853,19 +909,25 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
   double seconds = 0;
   std::size_t culled_room =
       count_culled ? std::max<std::size_t>(p.culled.capacity(), std::min<std::uint64_t>(whole_set.tests, 1 << 18)) : 0;
+  RootRange numbered_range{0, triangle_end};  // the range first_tile and test_total hold now
+  Numbered range_counts = whole_set;          // and its tests and tiles
   while (!todo.empty()) {
     const RootRange range = todo.front();
     const std::uint32_t bucket_width =
         std::max<std::uint32_t>(1, (range.end - range.first + kHistogramBuckets - 1) / kHistogramBuckets);
     CudaEvent start, done;
     start.record(stream);
+    if (range.first != numbered_range.first || range.end != numbered_range.end) {
+      range_counts = number_tests(range, true);
+      numbered_range = range;
+    }
     // Room: for the whole set what the last pass needed, at least a share of
     // the tests; for a planned or split range all of key_room (it was sized
-    // to hold it); never more than key_room or the tests (when known).
-    const std::uint64_t tests = whole_set.tests;
+    // to hold it); never more than key_room or the range's tests (when known).
+    const std::uint64_t tests = range_counts.tests;
     const bool whole = range.first == 0 && range.end == triangle_end;
     const std::size_t kept_room =
-        !whole_set.known
+        !range_counts.known
             ? p.kept.capacity()
             : std::min<std::uint64_t>(
                   {key_room, std::max<std::uint64_t>(tests, 1),
@@ -876,10 +938,10 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
     p.counters.fill_zero();
     p.histogram.fill_zero();
     unsigned long long counts[kCounters] = {};
-    if (tests > 0 || !whole_set.known) {
+    if (tests > 0 || !range_counts.known) {
       const std::uint64_t blocks =
-          whole_set.known ? std::min<std::uint64_t>((whole_set.tiles + kTileRun - 1) / kTileRun, resident_blocks)
-                          : resident_blocks;
+          range_counts.known ? std::min<std::uint64_t>((range_counts.tiles + kTileRun - 1) / kTileRun, resident_blocks)
+                             : resident_blocks;
       test_kernel<Cells><<<static_cast<unsigned>(blocks), kTestBlock, 0, stream>>>(
           source, triangle_dops, triangle_boxes, range.first, range.end, bucket_width, key_bits, p.histogram.data(),
           p.kept.data(), kept_room, count_culled, p.culled.data(), culled_room, p.counters.data());
@@ -887,10 +949,12 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
       ReadBack read(stream);
       read.add(counts, p.counters.data(), kCounters).add(histogram.data(), p.histogram.data(), kHistogramBuckets);
       std::uint64_t sums[2] = {};
-      if (!whole_set.known) read.add(sums, p.test_total.data(), 2).add(&whole_set.tiles, p.first_tile.data() + units);
+      if (!range_counts.known)
+        read.add(sums, p.test_total.data(), 2).add(&range_counts.tiles, p.first_tile.data() + units);
       read.wait();
-      if (!whole_set.known) {
-        take_sums(sums, whole_set);
+      if (!range_counts.known) {
+        take_sums(sums, range_counts);
+        whole_set = range_counts;
         check_rounds(whole_set);
       }
     }
@@ -969,8 +1033,7 @@ std::size_t uniform_blocks_bound(std::size_t cells, std::size_t registrations) {
 
 std::size_t uniform_numbering_bytes(std::size_t cells, std::size_t registrations) {
   const std::size_t blocks = uniform_blocks_bound(cells, registrations);
-  return (cells + 1) * 3 * sizeof(std::uint64_t) +
-         (blocks + 1) * (3 * sizeof(std::uint64_t) + sizeof(std::uint32_t) + sizeof(BlockRoots));
+  return (cells + 1) * 5 * sizeof(std::uint64_t) + (blocks + 1) * (3 * sizeof(std::uint64_t) + sizeof(std::uint32_t));
 }
 
 void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
@@ -984,23 +1047,26 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
   p.cell_pairs.resize(cells + 1);
   p.cell_blocks.resize(cells + 1);
   p.first_block.resize(cells + 1);
+  p.row_begin.resize(cells + 1);
+  p.row_end.resize(cells + 1);
   p.block_cell.resize(units);
-  p.block_roots.resize(units);
   p.cell_tests.resize(units + 1);
   p.cell_tiles.resize(units + 1);
   p.first_tile.resize(units + 1);
-  const UniformTileCells source{lists.first.data(),   lists.cell_ids.data(),  p.registered.data(),
-                                p.tile_members.data(), p.tile_boxes.data(),    grid,
-                                p.first_block.data(),  p.block_cell.data(),    p.block_roots.data(),
-                                p.first_tile.data(),   units};
-  auto number_units = [&] {
-    cell_blocks_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
-        lists.first.data(), cells, p.cell_pairs.data(), p.cell_blocks.data());
+  const UniformTileCells source{lists.first.data(),   lists.cell_ids.data(), p.registered.data(),
+                                p.tile_members.data(), p.tile_boxes.data(),   grid,
+                                p.first_block.data(),  p.block_cell.data(),   p.first_tile.data(),
+                                units,                 p.row_begin.data(),    p.row_end.data(),
+                                p.triangle_rank.data()};
+  auto number_units = [&](RootRange range) {
+    cell_rows_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
+        lists.first.data(), cells, p.tile_members.data(), p.triangle_rank.data(), range.first, range.end,
+        p.row_begin.data(), p.row_end.data(), p.cell_pairs.data(), p.cell_blocks.data());
     SNAG_CUDA_CHECK_LAUNCH();
     exclusive_sum(p.cell_blocks.data(), p.first_block.data(), cells + 1, p.temp, stream);
     block_tiles_kernel<<<blocks_for(units + 1), detail::kBlockSize, 0, stream>>>(
-        lists.first.data(), cells, p.first_block.data(), p.tile_members.data(), p.tile_boxes.data(), units,
-        p.cell_tiles.data(), p.cell_tests.data(), p.block_cell.data(), p.block_roots.data());
+        lists.first.data(), cells, p.first_block.data(), p.row_begin.data(), p.row_end.data(), p.tile_boxes.data(),
+        units, p.cell_tiles.data(), p.cell_tests.data(), p.block_cell.data());
     SNAG_CUDA_CHECK_LAUNCH();
   };
   run_pair_tests(source, units, cells, number_units, triangle_dops, triangle_boxes, triangle_count, count_culled,
@@ -1021,7 +1087,7 @@ void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const D
   p.row_end.resize(cells + 1);
   const AdaptiveTileCells source{tree.cells.data(), tree.members.data(), tree.leaf_dops.data(), tree.depth,
                                  p.first_tile.data(), p.row_begin.data(), p.row_end.data(), cells};
-  auto number_units = [&] {
+  auto number_units = [&](RootRange) {
     adaptive_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
         tree.cells.data(), cells, p.cell_tests.data(), p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();

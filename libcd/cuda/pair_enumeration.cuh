@@ -1,6 +1,7 @@
 // The candidate tests on the GPU, mirroring step 5-6 of
 // libcd/broad_phase/virtual_subdivision_grid.cpp: each uniform cell's leaves
-// are ordered by the lower y of their root's float box, and a leaf is tested
+// are ordered by the lower y of their root's float box (the sweep order of the
+// roots, ties by triangle: each root's rank in it), and a leaf is tested
 // only against those after it up to the first whose lower y passes its upper
 // y (the cell's other pairs are apart in y: culled by their boxes untested,
 // as on the CPU). The cell's tests are cut into square tiles
@@ -45,32 +46,28 @@ struct UniformTileMember {
   LocalCells cells;
 };
 
-/// The smallest and largest root of a block of a uniform cell's leaves
-/// (kPairTileSide of them, grid/pair_index.hpp): a tile whose pairs' smaller
-/// root cannot lie in a pass's root range is skipped whole.
-struct BlockRoots {
-  Index low, high;
-};
-
 /// Buffers of the pair stage, reused across calls (they only grow).
 struct DevicePairs {
-  /// Cell by cell, each cell's by the lower y of the root's float box (sweep_low).
+  /// Cell by cell, each cell's by its root's rank (triangle_rank).
   DeviceBuffer<RegisteredLeaf> registered;
   /// registered[r] in its cell, and its root's float box (both in the order of registered).
   DeviceBuffer<UniformTileMember> tile_members;
   DeviceBuffer<FloatBox> tile_boxes;
   DeviceBuffer<std::uint64_t> order_keys, order_keys_spare;  ///< the registrations' sort
   DeviceBuffer<std::uint32_t> order_ids, order_ids_spare;
+  /// Each triangle's rank in the sweep order: by the lower y of its float box
+  /// (sweep_low), ties by triangle. The uniform grid's chunks are ranges of it.
+  DeviceBuffer<std::uint32_t> triangle_rank;
+  DeviceBuffer<std::uint64_t> rank_keys, rank_keys_spare;  ///< the ranks' sort
   /// The tests in the tiles of each unit (a uniform cell's block of leaves,
   /// an adaptive cell) and their sum; test_total[1]: every pair of the
   /// uniform cells, tested or not.
   DeviceBuffer<std::uint64_t> cell_tests, test_total;
   DeviceBuffer<std::uint64_t> cell_tiles, first_tile;  ///< tiles per unit, and their exclusive sum
-  DeviceBuffer<std::uint64_t> row_begin, row_end;      ///< an adaptive cell's rows [begin, end)
+  DeviceBuffer<std::uint64_t> row_begin, row_end;      ///< a cell's rows [begin, end) in a pass
   /// A uniform cell's every pair and blocks, and the blocks' exclusive sum.
   DeviceBuffer<std::uint64_t> cell_pairs, cell_blocks, first_block;
   DeviceBuffer<std::uint32_t> block_cell;  ///< a block's cell
-  DeviceBuffer<BlockRoots> block_roots;
   DeviceBuffer<std::uint64_t> kept, culled, sorted;  ///< kept and sorted: the sort's two halves
   DeviceBuffer<TrianglePair> pairs;  ///< the result of a chunk: unique root pairs, ascending
   DeviceBuffer<unsigned long long> counters;
@@ -79,10 +76,11 @@ struct DevicePairs {
 
   explicit DevicePairs(cudaStream_t stream)
       : registered(0, stream), tile_members(0, stream), tile_boxes(0, stream), order_keys(0, stream),
-        order_keys_spare(0, stream), order_ids(0, stream), order_ids_spare(0, stream), cell_tests(0, stream),
+        order_keys_spare(0, stream), order_ids(0, stream), order_ids_spare(0, stream), triangle_rank(0, stream),
+        rank_keys(0, stream), rank_keys_spare(0, stream), cell_tests(0, stream),
         test_total(0, stream), cell_tiles(0, stream), first_tile(0, stream), row_begin(0, stream),
         row_end(0, stream), cell_pairs(0, stream), cell_blocks(0, stream), first_block(0, stream),
-        block_cell(0, stream), block_roots(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream),
+        block_cell(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream),
         pairs(0, stream), counters(0, stream), histogram(0, stream), temp(0, stream) {}
 
   /// Bytes of the numbering of the tests and tiles.
@@ -90,7 +88,7 @@ struct DevicePairs {
     return cell_tests.capacity_bytes() + test_total.capacity_bytes() + cell_tiles.capacity_bytes() +
            first_tile.capacity_bytes() + row_begin.capacity_bytes() + row_end.capacity_bytes() +
            cell_pairs.capacity_bytes() + cell_blocks.capacity_bytes() + first_block.capacity_bytes() +
-           block_cell.capacity_bytes() + block_roots.capacity_bytes();
+           block_cell.capacity_bytes();
   }
 };
 
@@ -103,7 +101,9 @@ std::size_t uniform_numbering_bytes(std::size_t cells, std::size_t registrations
 /// its unique pair (the sort's scratch is small beside them).
 constexpr std::size_t kPairChunkBytesPerTest = 3 * sizeof(std::uint64_t);
 
-/// The triangles [first, end) whose pairs (with a larger triangle) one chunk holds.
+/// The chunk order's [first, end) whose pairs one chunk holds: the pairs whose
+/// earlier leaf in the sweep order has its root's rank there (the uniform
+/// grid), or whose smaller root lies there (the adaptive grid).
 struct RootRange {
   std::uint32_t first = 0, end = 0;
 };
@@ -112,37 +112,39 @@ struct RootRange {
 ///
 /// Memory: the kept tests of a pass are at most `key_room` (the caller's share
 /// of the device memory over kPairChunkBytesPerTest); when one pass would keep
-/// more, the tests are split by the smaller root triangle of each pair into
-/// ranges (RootRange) of at most key_room kept tests each, read from a
-/// histogram of the kept tests over the range, and every range runs as a pass
-/// of its own: every tile that may hold a test of the range, only the range's
-/// tests run and kept. Ranges are disjoint
-/// and ascending, so the chunks' unique pairs, one after the other, are the
-/// sorted unique pairs of the whole set, and every count is the sum over
-/// chunks. `plan` holds the ranges of the last call and is tried first (a scan's
-/// steps are alike); on return it holds this call's.
+/// more, the tests are split by the chunk order (RootRange) into ranges of at
+/// most key_room kept tests each, read from a histogram of the kept tests
+/// over the range, and every range runs as a pass of its own: in the uniform
+/// grid the rows of its ranks (contiguous in each cell, whose leaves ascend by
+/// rank), in the adaptive grid every tile that may hold a test of the range,
+/// only the range's tests run. A root pair's tests all lie in one range, so
+/// each chunk's unique pairs are unique in the whole set and every count is
+/// the sum over chunks; the adaptive grid's chunks ascend by root pair, the
+/// uniform grid's only within each. `plan` holds the ranges of the last call
+/// and is tried first (a scan's steps are alike); on return it holds this call's.
 /// Throws UsageError when the kept tests of one triangle exceed key_room.
 struct PairChunkPlan {
   std::size_t key_room = ~std::size_t{0};
   std::vector<RootRange> ranges;
 };
 
-/// Copies the registered leaves into pairs.registered, cell by cell and each
-/// cell's by the lower y of its root's float box (sweep_low; stable), with each
+/// Ranks the triangles in the sweep order (pairs.triangle_rank) and copies the
+/// registered leaves into pairs.registered, cell by cell and each cell's by
+/// its root's rank (stable), with each
 /// one's UniformTileMember in the grid's cell it is registered in and its
 /// root's float box (triangle_boxes, #F) beside it, which is all the pair
 /// tests read of them: the leaves and the registration's scratch may be
 /// given back after it (in stream order). `check` is told what its buffers
 /// add before they allocate (it may throw). Throws CudaError, or what `check`
 /// throws.
-void order_registrations_on_device(const Leaf* leaves, const FloatBox* triangle_boxes,
+void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
                                    const DeviceCellLists& lists, const GridSpec& grid, DevicePairs& pairs,
                                    cudaStream_t stream, const GrowthCheck& check = {});
 
 /// Runs the tests of the registered cells (pairs.registered and the rest,
 /// from order_registrations_on_device with the same grid and boxes) and
 /// hands the unique triangle pairs to `visit` chunk by chunk (see PairChunkPlan), each chunk's pairs
-/// ascending and the chunks in ascending order; the device array passed to
+/// ascending (the chunks are not: they are ranges of the sweep order); the device array passed to
 /// visit is valid until it returns. Fills stats' test counters (a cell's
 /// pairs apart in y, untested, count in culled_by_boxes: the CPU's counts),
 /// culled_by_dop, duplicate_root_pair_tests, duplicate_culled_tests (when

@@ -123,19 +123,28 @@ SNAG_HD_INLINE PairTile pair_tile(std::uint64_t n, std::uint64_t i0, std::uint64
 /// boxes tests item i only against the items after it up to the end of its
 /// run, the first item whose lower y passes i's upper y (it and those after
 /// it are apart from i in y). The items are cut into blocks of kPairTileSide;
-/// a block's rows (its items but n - 1, which has no item after it) meet the
-/// column blocks from their own up to the one that holds the last item of
-/// the block's longest run, and those are the block's tiles. A pair outside
-/// every tile is apart in y.
+/// a block's rows (its items among the rows [i0, i1) asked for, but n - 1,
+/// which has no item after it) meet the column blocks from their own up to
+/// the one that holds the last item of the rows' longest run, and those are
+/// the block's tiles. A pair of a row outside every tile is apart in y.
 
 /// Blocks of kPairTileSide items of n items.
 SNAG_HD_INLINE std::uint64_t item_blocks(std::uint64_t n) { return (n + kPairTileSide - 1) / kPairTileSide; }
 
-/// The end of the rows of block a of n items, min((a + 1)·side, n - 1): its
-/// rows are [a·side, that), none for a block that holds only item n - 1.
-SNAG_HD_INLINE std::uint64_t swept_rows_end(std::uint64_t n, std::uint64_t a) {
-  const std::uint64_t last_row = n < 2 ? 0 : n - 1, end = (a + 1) * kPairTileSide;
-  return end < last_row ? end : last_row;
+/// The rows [begin, end) of a block (none when begin >= end).
+struct SweptRows {
+  std::uint64_t begin = 0, end = 0;
+};
+
+/// The rows of block a of n items among the rows [i0, i1): its items from
+/// max(a·side, i0) up to min((a + 1)·side, i1, n - 1).
+SNAG_HD_INLINE SweptRows swept_rows(std::uint64_t n, std::uint64_t a, std::uint64_t i0, std::uint64_t i1) {
+  const std::uint64_t last_row = n < 2 ? 0 : n - 1, first = a * kPairTileSide, end = first + kPairTileSide;
+  SweptRows rows;
+  rows.begin = first > i0 ? first : i0;
+  rows.end = end < last_row ? end : last_row;
+  if (i1 < rows.end) rows.end = i1;
+  return rows;
 }
 
 /// The first of the items [begin, n) whose lower y, low(j), passes `high`, or
@@ -149,29 +158,28 @@ SNAG_HD_INLINE std::uint64_t swept_run_end(const LowY& low, std::uint64_t begin,
   return begin;
 }
 
-/// The end of the column blocks of block a's tiles, whose rows' runs end at
-/// `run_end` at most (run_end > the block's last row): its tiles are the
-/// column blocks [a, that).
+/// The end of the column blocks of a block's tiles whose rows' runs end at
+/// `run_end` at most (run_end > its last row): its tiles are the column
+/// blocks from its own up to that.
 SNAG_HD_INLINE std::uint64_t swept_column_blocks_end(std::uint64_t run_end) {
   return (run_end + kPairTileSide - 1) / kPairTileSide;
 }
 
-/// The tests of block a's tiles in n items, column blocks [a, column_end):
-/// the pairs i < j with i among its rows and j below min(column_end·side, n).
-SNAG_HD_INLINE std::uint64_t swept_block_tests(std::uint64_t n, std::uint64_t a, std::uint64_t column_end) {
-  const std::uint64_t first = a * kPairTileSide, rows_end = swept_rows_end(n, a);
-  if (rows_end <= first) return 0;
-  const std::uint64_t k = rows_end - first;
+/// The tests of the tiles of `rows` (begin < end) in n items, up to column
+/// block column_end: the pairs i < j with i among the rows and j below
+/// min(column_end·side, n).
+SNAG_HD_INLINE std::uint64_t swept_rows_tests(std::uint64_t n, SweptRows rows, std::uint64_t column_end) {
+  const std::uint64_t k = rows.end - rows.begin;
   const std::uint64_t columns_end = column_end * kPairTileSide < n ? column_end * kPairTileSide : n;
-  return k * (columns_end - first) - k * (k + 1) / 2;  // row first + r: columns_end - (first + r) - 1 tests
+  return k * (columns_end - rows.begin) - k * (k + 1) / 2;  // row begin + r: columns_end - (begin + r) - 1 tests
 }
 
-/// Tile (a, b), b >= a, of n items: block a's rows and block b's items as
-/// columns (its tests are the pairs i < j of the two).
-SNAG_HD_INLINE PairTile swept_tile(std::uint64_t n, std::uint64_t a, std::uint64_t b) {
+/// The tile of `rows` (a block's) and column block b, at or after theirs, of
+/// n items (its tests are the pairs i < j of the two).
+SNAG_HD_INLINE PairTile swept_tile(std::uint64_t n, SweptRows rows, std::uint64_t b) {
   PairTile tile;
-  tile.row_begin = a * kPairTileSide;
-  tile.row_end = swept_rows_end(n, a);
+  tile.row_begin = rows.begin;
+  tile.row_end = rows.end;
   tile.column_begin = b * kPairTileSide;
   tile.column_end = (b + 1) * kPairTileSide < n ? (b + 1) * kPairTileSide : n;
   return tile;
