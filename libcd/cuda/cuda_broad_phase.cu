@@ -404,7 +404,8 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
   add("pairs: registered leaves' sort", p.order_keys.capacity_bytes() + p.order_keys_spare.capacity_bytes() +
                                            p.order_ids.capacity_bytes() + p.order_ids_spare.capacity_bytes());
   add("pairs: triangles' sweep ranks and their sort",
-      p.triangle_rank.capacity_bytes() + p.rank_keys.capacity_bytes() + p.rank_keys_spare.capacity_bytes());
+      p.triangle_rank.capacity_bytes() + p.rank_keys.capacity_bytes() + p.rank_keys_spare.capacity_bytes() +
+          p.rank_ids.capacity_bytes() + p.rank_ids_spare.capacity_bytes());
   add("pairs: cell tests and tiles", p.cell_test_bytes());
   add("pairs: kept test keys (chunk)", p.kept.capacity_bytes());
   add("pairs: sorted keys (chunk)", p.sorted.capacity_bytes());
@@ -496,8 +497,9 @@ void CudaBroadPhase::release_stage_buffers() {
   b.pairs.order_keys_spare.release();
   b.pairs.order_ids.release();
   b.pairs.order_ids_spare.release();
-  b.pairs.rank_keys.release();
-  b.pairs.rank_keys_spare.release();
+  for (DeviceBuffer<std::uint32_t>* scratch :
+       {&b.pairs.rank_keys, &b.pairs.rank_keys_spare, &b.pairs.rank_ids, &b.pairs.rank_ids_spare})
+    scratch->release();
 }
 
 void CudaBroadPhase::release_buffers() {

@@ -55,20 +55,19 @@ void check_id_range(std::size_t triangle_count, std::size_t cells) {
     throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
 }
 
-/// Sort keys of the triangles in the sweep order: the lower y of each one's
-/// float box (order_key of sweep_low) above its id (pack_key, in id_bits).
-__global__ void rank_keys_kernel(const FloatBox* boxes, std::size_t count, int id_bits, std::uint64_t* keys) {
+/// Sort keys of the triangles in the sweep order, the lower y of each one's
+/// float box (order_key of sweep_low), and their ids.
+__global__ void rank_keys_kernel(const FloatBox* boxes, std::size_t count, std::uint32_t* keys, std::uint32_t* ids) {
   const std::uint64_t f = thread_item();
-  if (f < count) keys[f] = pack_key(order_key(sweep_low(boxes[f])), static_cast<std::uint32_t>(f), id_bits);
+  if (f >= count) return;
+  keys[f] = order_key(sweep_low(boxes[f]));
+  ids[f] = static_cast<std::uint32_t>(f);
 }
 
-/// rank[f] = k where the k-th of the sorted keys is triangle f's.
-__global__ void rank_scatter_kernel(const std::uint64_t* sorted, std::size_t count, int id_bits, std::uint32_t* rank) {
+/// rank[f] = k where the k-th of the sorted ids is f.
+__global__ void rank_scatter_kernel(const std::uint32_t* sorted_ids, std::size_t count, std::uint32_t* rank) {
   const std::uint64_t k = thread_item();
-  if (k >= count) return;
-  std::uint32_t low_y = 0, f = 0;
-  unpack_key(sorted[k], id_bits, low_y, f);
-  rank[f] = static_cast<std::uint32_t>(k);
+  if (k < count) rank[sorted_ids[k]] = static_cast<std::uint32_t>(k);
 }
 
 /// Sort keys of the registrations: cell rank above, the rank of the root
@@ -172,7 +171,8 @@ __global__ void block_tiles_kernel(const std::uint64_t* first, std::size_t cells
 
 /// Tests of each adaptive test cell: the rows of its stuck members, [0,
 /// stuck), whatever the root range (the test kernel skips the tests of other
-/// ranges); as chunk_tests_kernel otherwise.
+/// ranges): tests[c] of them in tiles[c] tiles (pair_tile_count);
+/// tests[count] = tiles[count] = 0.
 __global__ void adaptive_tests_kernel(const TestCell* cells, std::size_t count, std::uint64_t* tests,
                                       std::uint64_t* tiles, std::uint64_t* row_begin, std::uint64_t* row_end) {
   const std::uint64_t c = thread_item();
@@ -188,7 +188,7 @@ __global__ void adaptive_tests_kernel(const TestCell* cells, std::size_t count, 
   tiles[c] = pair_tile_count(n, 0, stuck);
 }
 
-/// Buckets of the histogram of kept tests over a pass's root range.
+/// Buckets of the histogram of kept tests over a pass's range.
 constexpr unsigned kHistogramBuckets = 1024;
 
 /// Consecutive tiles a block of the test kernel takes at a time: the cell of
@@ -777,24 +777,28 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
                           p.tile_boxes.growth_bytes(registrations) + p.order_keys.growth_bytes(registrations) +
                           p.order_keys_spare.growth_bytes(registrations) + p.order_ids.growth_bytes(registrations) +
                           p.order_ids_spare.growth_bytes(registrations) + p.triangle_rank.growth_bytes(triangle_count) +
-                          p.rank_keys.growth_bytes(triangle_count) + p.rank_keys_spare.growth_bytes(triangle_count));
+                          p.rank_keys.growth_bytes(triangle_count) + p.rank_keys_spare.growth_bytes(triangle_count) +
+                          p.rank_ids.growth_bytes(triangle_count) + p.rank_ids_spare.growth_bytes(triangle_count));
   p.registered.resize(registrations);
   p.tile_members.resize(registrations);
   p.tile_boxes.resize(registrations);
   if (registrations == 0) return;
-  // The triangles' ranks in the sweep order.
+  // The triangles' ranks in the sweep order (a stable sort: ties by id).
   p.triangle_rank.resize(triangle_count);
   p.rank_keys.resize(triangle_count);
   p.rank_keys_spare.resize(triangle_count);
-  const int rank_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0);
-  rank_keys_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(triangle_boxes, triangle_count,
-                                                                                  rank_bits, p.rank_keys.data());
+  p.rank_ids.resize(triangle_count);
+  p.rank_ids_spare.resize(triangle_count);
+  rank_keys_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(
+      triangle_boxes, triangle_count, p.rank_keys.data(), p.rank_ids.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  cub::DoubleBuffer<std::uint64_t> rank_keys(p.rank_keys.data(), p.rank_keys_spare.data());
-  radix_sort_keys(rank_keys, triangle_count, 32 + rank_bits, p.temp, stream, check);
+  cub::DoubleBuffer<std::uint32_t> rank_keys(p.rank_keys.data(), p.rank_keys_spare.data());
+  cub::DoubleBuffer<std::uint32_t> rank_ids(p.rank_ids.data(), p.rank_ids_spare.data());
+  radix_sort_pairs(rank_keys, rank_ids, triangle_count, 32, p.temp, stream, check);
   rank_scatter_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(
-      rank_keys.Current(), triangle_count, rank_bits, p.triangle_rank.data());
+      rank_ids.Current(), triangle_count, p.triangle_rank.data());
   SNAG_CUDA_CHECK_LAUNCH();
+  const int rank_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0);
   // The registrations by cell, then by their root's rank.
   p.order_keys.resize(registrations);
   p.order_keys_spare.resize(registrations);

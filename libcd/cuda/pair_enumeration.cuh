@@ -58,7 +58,7 @@ struct DevicePairs {
   /// Each triangle's rank in the sweep order: by the lower y of its float box
   /// (sweep_low), ties by triangle. The uniform grid's chunks are ranges of it.
   DeviceBuffer<std::uint32_t> triangle_rank;
-  DeviceBuffer<std::uint64_t> rank_keys, rank_keys_spare;  ///< the ranks' sort
+  DeviceBuffer<std::uint32_t> rank_keys, rank_keys_spare, rank_ids, rank_ids_spare;  ///< the ranks' sort
   /// The tests in the tiles of each unit (a uniform cell's block of leaves,
   /// an adaptive cell) and their sum; test_total[1]: every pair of the
   /// uniform cells, tested or not.
@@ -77,7 +77,8 @@ struct DevicePairs {
   explicit DevicePairs(cudaStream_t stream)
       : registered(0, stream), tile_members(0, stream), tile_boxes(0, stream), order_keys(0, stream),
         order_keys_spare(0, stream), order_ids(0, stream), order_ids_spare(0, stream), triangle_rank(0, stream),
-        rank_keys(0, stream), rank_keys_spare(0, stream), cell_tests(0, stream),
+        rank_keys(0, stream), rank_keys_spare(0, stream), rank_ids(0, stream), rank_ids_spare(0, stream),
+        cell_tests(0, stream),
         test_total(0, stream), cell_tiles(0, stream), first_tile(0, stream), row_begin(0, stream),
         row_end(0, stream), cell_pairs(0, stream), cell_blocks(0, stream), first_block(0, stream),
         block_cell(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream),
