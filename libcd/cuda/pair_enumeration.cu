@@ -1022,10 +1022,6 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
   stats.seconds_pairs = seconds;
 }
 
-}  // namespace
-
-namespace {
-
 /// Blocks of kPairTileSide leaves numbered for `cells` uniform cells of
 /// `registrations` leaves: at most one a cell more than registrations / side
 /// (those from first_block[cells] on have no tile).
