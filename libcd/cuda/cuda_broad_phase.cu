@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <string>
 
 #include "libcd/core/error.hpp"
@@ -62,7 +63,13 @@ void append_download(const T* items, std::size_t count, std::vector<T>& host, cu
 
 }  // namespace
 
-CudaBroadPhase::CudaBroadPhase(bool subdivide, bool adaptive) : subdivide_(subdivide), adaptive_(adaptive) {}
+CellOrder default_cell_order() {
+  const char* swept = std::getenv("SNAG_CUDA_SWEPT_CELLS");
+  return swept != nullptr && std::string(swept) == "1" ? CellOrder::kSwept : CellOrder::kRoot;
+}
+
+CudaBroadPhase::CudaBroadPhase(bool subdivide, bool adaptive, CellOrder order)
+    : subdivide_(subdivide), adaptive_(adaptive), swept_(!adaptive && order == CellOrder::kSwept) {}
 CudaBroadPhase::~CudaBroadPhase() = default;
 
 void CudaBroadPhase::build(const Scene& scene, const BroadPhaseSettings& settings) {
@@ -201,7 +208,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   if (!adaptive_)
     order_registrations_on_device(b.subdivision.leaves.data(), triangle_count, b.bounds.triangle_boxes.data(),
-                                  b.cells, grid, b.pairs, stream,
+                                  b.cells, grid, swept_, b.pairs, stream,
                                   budget_check("copy of the leaves for the pair tests"));
   if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
 
@@ -210,8 +217,8 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   std::size_t key_room = ~std::size_t{0};
   candidate_room_ = ~std::size_t{0};
   if (budget_ > 0) {
-    const std::size_t numbering = adaptive_ ? (test_cells + 1) * 3 * sizeof(std::uint64_t)
-                                            : uniform_numbering_bytes(test_cells, b.pairs.registered.size());
+    const std::size_t numbering = swept_ ? uniform_numbering_bytes(test_cells, b.pairs.registered.size())
+                                         : (test_cells + 1) * 3 * sizeof(std::uint64_t);
     const std::size_t fixed =
         held_bytes() - chunk_bytes() + numbering + (std::size_t{4} << 20);  // counters, histogram, sort scratch
     if (fixed >= budget_)
@@ -252,7 +259,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
                                        triangle_count, settings_.count_culled_duplicates, *plan_, b.pairs, stream,
                                        stats_, visit_chunk);
   else
-    enumerate_pairs_on_device(b.cells, grid, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
+    enumerate_pairs_on_device(b.cells, grid, swept_, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
                               triangle_count, settings_.count_culled_duplicates, *plan_, b.pairs, stream, stats_,
                               visit_chunk);
 }
@@ -517,9 +524,9 @@ void CudaBroadPhase::release_buffers() {
 
 std::unique_ptr<BroadPhase> make_cuda_broad_phase(BroadPhaseMethod method) { return CudaBroadPhase::create(method); }
 
-std::unique_ptr<CudaBroadPhase> CudaBroadPhase::create(BroadPhaseMethod method) {
-  if (method == BroadPhaseMethod::kVirtualSubdivisionGrid) return std::make_unique<CudaBroadPhase>(true);
-  if (method == BroadPhaseMethod::kLargestTriangleGrid) return std::make_unique<CudaBroadPhase>(false);
+std::unique_ptr<CudaBroadPhase> CudaBroadPhase::create(BroadPhaseMethod method, CellOrder order) {
+  if (method == BroadPhaseMethod::kVirtualSubdivisionGrid) return std::make_unique<CudaBroadPhase>(true, false, order);
+  if (method == BroadPhaseMethod::kLargestTriangleGrid) return std::make_unique<CudaBroadPhase>(false, false, order);
   if (method == BroadPhaseMethod::kAdaptiveGrid) return std::make_unique<CudaBroadPhase>(true, true);
   // The CPU's others: brute force, the box grid, sweep and prune.
   throw UsageError(std::string("broad phase: the CUDA back end has no ") + broad_phase_method_name(method) +

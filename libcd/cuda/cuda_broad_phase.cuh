@@ -60,15 +60,28 @@ using CandidateVisitor = std::function<void(const DeviceCandidates&)>;
 struct CudaBroadPhaseBuffers;  // device buffers, defined in cuda_broad_phase.cu
 struct PairChunkPlan;          // pair_enumeration.cuh
 
+/// How the uniform grid's cells order their leaves for the pair tests
+/// (pair_enumeration.cuh): by root, every pair of a cell tested; or swept
+/// along y, as the CPU's grid, only the pairs whose boxes meet in y tested
+/// (the others are culled by their boxes all the same: the same counts and
+/// candidates).
+enum class CellOrder { kRoot, kSwept };
+
+/// kSwept when the environment variable SNAG_CUDA_SWEPT_CELLS is "1", else
+/// kRoot: the swept cells are new on the GPU, and chosen by hand until they
+/// have been measured against the others there.
+CellOrder default_cell_order();
+
 class CudaBroadPhase final : public BroadPhase {
  public:
   /// subdivide = true: the VSS grid; false: the cell fits the largest triangle.
   /// adaptive = true: its crowded cells subdivided (the adaptive grid,
   /// cuda/adaptive_cells.cuh), as the CPU's VirtualSubdivisionGrid::Cells::kAdaptive.
-  explicit CudaBroadPhase(bool subdivide, bool adaptive = false);
+  /// order: the uniform cells' (not the adaptive grid's).
+  explicit CudaBroadPhase(bool subdivide, bool adaptive = false, CellOrder order = CellOrder::kRoot);
   ~CudaBroadPhase() override;
   /// For kVirtualSubdivisionGrid, kLargestTriangleGrid or kAdaptiveGrid; UsageError for the others.
-  static std::unique_ptr<CudaBroadPhase> create(BroadPhaseMethod method);
+  static std::unique_ptr<CudaBroadPhase> create(BroadPhaseMethod method, CellOrder order = default_cell_order());
 
   /// The stream its detections run on. Given before build(), build() makes
   /// its buffers and uploads the topology on it, once; a detection on another
@@ -161,6 +174,7 @@ class CudaBroadPhase final : public BroadPhase {
   void release_stage_buffers();
 
   bool subdivide_, adaptive_;
+  bool swept_;  ///< the uniform cells swept along y (CellOrder::kSwept)
   const Scene* scene_ = nullptr;
   BroadPhaseSettings settings_;
   BroadPhaseStats stats_;

@@ -6,12 +6,13 @@
 // chapter, section 5.3.3 (control bits, extended control bits).
 // Primitives: CUB DeviceScan, DeviceRadixSort, DeviceSelect::Unique.
 //
-// Chunks (uniform grid): a pass over a range [lo, hi) of the sweep order's
-// ranks runs the rows of each cell whose root's rank lies in it (a cell's
-// leaves ascend by rank, so they are contiguous) against the leaves after
-// them: the pairs whose earlier leaf's root has its rank in the range. A root
-// pair's leaves come in the same order in every cell that tests it, so all
-// of its tests fall in one pass; all passes together run each test once.
+// Chunks (uniform grid): each cell's leaves ascend by their root (or, swept,
+// by their root's rank in the sweep order), so that a pass over a range [lo,
+// hi) of roots (ranks) runs the rows of each cell whose root (rank) lies in
+// it, contiguous there, against the leaves after them: the pairs whose
+// earlier leaf's root (rank) is in the range. A root pair's leaves come in
+// the same order in every cell that tests it, so all of its tests fall in
+// one pass; all passes together run each test once.
 #include "libcd/cuda/pair_enumeration.cuh"
 
 #include <cub/device/device_reduce.cuh>
@@ -70,16 +71,23 @@ __global__ void rank_scatter_kernel(const std::uint32_t* sorted_ids, std::size_t
   if (k < count) rank[sorted_ids[k]] = static_cast<std::uint32_t>(k);
 }
 
-/// Sort keys of the registrations: cell rank above, the rank of the root
-/// below (pack_key, in rank_bits); the values are the leaf ids.
+/// A root's place in a cell's order: the root itself, or its rank in the
+/// sweep order (triangle_rank, when given).
+SNAG_HD_INLINE std::uint32_t cell_order_key(const std::uint32_t* triangle_rank, Index root) {
+  return triangle_rank != nullptr ? triangle_rank[root] : root;
+}
+
+/// Sort keys of the registrations: cell rank above, the root's place in the
+/// cell's order (cell_order_key) below (pack_key, in key_bits); the values
+/// are the leaf ids.
 __global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t* first, std::size_t cells,
                                          const std::uint32_t* cell_leaves, std::size_t count,
-                                         const std::uint32_t* triangle_rank, int rank_bits, std::uint64_t* keys,
+                                         const std::uint32_t* triangle_rank, int key_bits, std::uint64_t* keys,
                                          std::uint32_t* ids) {
   const std::uint64_t r = thread_item();
   if (r >= count) return;
   const std::uint64_t c = cell_of_work_item(first, cells, r);
-  keys[r] = pack_key(c, triangle_rank[leaves[cell_leaves[r]].triangle.root], rank_bits);
+  keys[r] = pack_key(c, cell_order_key(triangle_rank, leaves[cell_leaves[r]].triangle.root), key_bits);
   ids[r] = cell_leaves[r];
 }
 
@@ -89,7 +97,7 @@ __global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t
 /// piece (a record stored by itself lies 92, 28 or 24 bytes from its
 /// neighbours').
 __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t* ids, const std::uint64_t* keys,
-                                         int rank_bits, const std::uint64_t* cell_ids, GridSpec grid,
+                                         int key_bits, const std::uint64_t* cell_ids, GridSpec grid,
                                          const FloatBox* triangle_boxes, std::size_t count, RegisteredLeaf* out,
                                          UniformTileMember* tile_members, FloatBox* tile_boxes) {
   __shared__ detail::WarpRunStage<RegisteredLeaf, detail::kBlockSize> stage;
@@ -101,7 +109,7 @@ __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t
   FloatBox box{};
   if (r < count) {
     record = registered_leaf(leaves[ids[r]]);
-    const CellCoord cell = grid_cell_coord(grid, cell_ids[keys[r] >> rank_bits]);
+    const CellCoord cell = grid_cell_coord(grid, cell_ids[keys[r] >> key_bits]);
     member = {record.root, record.slot_depth, record.slot_index, local_cells(record.cells, cell)};
     box = triangle_boxes[record.root];
   }
@@ -110,19 +118,41 @@ __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t
   box_stage.write(box, r, count, tile_boxes);
 }
 
-/// The first of a cell's leaves (ascending by their root's rank) whose root's rank is at least `rank`.
-__device__ std::uint64_t first_with_rank(const UniformTileMember* members, const std::uint32_t* triangle_rank,
-                                         std::uint64_t begin, std::uint64_t end, std::uint32_t rank) {
+/// The first of a cell's leaves [begin, end) (ascending by cell_order_key)
+/// whose cell_order_key is at least `key`.
+__device__ std::uint64_t first_in_order(const UniformTileMember* members, const std::uint32_t* triangle_rank,
+                                        std::uint64_t begin, std::uint64_t end, std::uint32_t key) {
   while (begin < end) {
     const std::uint64_t mid = begin + (end - begin) / 2;
-    if (triangle_rank[members[mid].root] < rank) begin = mid + 1; else end = mid;
+    if (cell_order_key(triangle_rank, members[mid].root) < key) begin = mid + 1; else end = mid;
   }
   return begin;
 }
 
-/// Each uniform cell's rows [row_begin, row_end) of a pass over the ranks
-/// [lo, hi) (its leaves whose root's rank lies there), its every pair and
-/// its blocks of leaves (grid/pair_index.hpp); pairs[cells] = blocks[cells] = 0.
+/// Tests of each uniform cell (leaves by root) whose smaller root lies in
+/// [lo, hi): rows [i0, i1) of the cell's numbering, tests[c] of them in
+/// tiles[c] tiles; tests[cells] = tiles[cells] = 0.
+__global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells, const UniformTileMember* registered,
+                                   std::uint32_t lo, std::uint32_t hi, std::uint64_t* tests, std::uint64_t* tiles,
+                                   std::uint64_t* row_begin, std::uint64_t* row_end) {
+  const std::uint64_t c = thread_item();
+  if (c > cells) return;
+  if (c == cells) {
+    tests[c] = tiles[c] = 0;
+    return;
+  }
+  const std::uint64_t begin = first[c], end = first[c + 1], n = end - begin;
+  const std::uint64_t i0 = first_in_order(registered, nullptr, begin, end, lo) - begin;
+  const std::uint64_t i1 = first_in_order(registered, nullptr, begin, end, hi) - begin;
+  row_begin[c] = i0;
+  row_end[c] = i1;
+  tests[c] = pair_count(n - i0) - pair_count(n - i1);  // the pairs (i, j), i < j, with i0 <= i < i1
+  tiles[c] = pair_tile_count(n, i0, i1);
+}
+
+/// Each swept uniform cell's rows [row_begin, row_end) of a pass over the
+/// ranks [lo, hi) (its leaves whose root's rank lies there), its every pair
+/// and its blocks of leaves (grid/pair_index.hpp); pairs[cells] = blocks[cells] = 0.
 __global__ void cell_rows_kernel(const std::uint64_t* first, std::size_t cells, const UniformTileMember* members,
                                  const std::uint32_t* triangle_rank, std::uint32_t lo, std::uint32_t hi,
                                  std::uint64_t* row_begin, std::uint64_t* row_end, std::uint64_t* pairs,
@@ -134,13 +164,13 @@ __global__ void cell_rows_kernel(const std::uint64_t* first, std::size_t cells, 
     return;
   }
   const std::uint64_t begin = first[c], end = first[c + 1], n = end - begin;
-  row_begin[c] = first_with_rank(members, triangle_rank, begin, end, lo) - begin;
-  row_end[c] = first_with_rank(members, triangle_rank, begin, end, hi) - begin;
+  row_begin[c] = first_in_order(members, triangle_rank, begin, end, lo) - begin;
+  row_end[c] = first_in_order(members, triangle_rank, begin, end, hi) - begin;
   pairs[c] = pair_count(n);
   blocks[c] = item_blocks(n);
 }
 
-/// Each block u < units of the uniform cells' leaves (first_block: the
+/// Each block u < units of the swept uniform cells' leaves (first_block: the
 /// blocks' exclusive sum over the cells; from first_block[cells] on, none):
 /// its cell, and its tiles and the tests in them for its cell's rows of the
 /// pass (the swept cells of grid/pair_index.hpp: the rows' longest run ends
@@ -242,12 +272,24 @@ struct TileAt {
   bool skipped;
 };
 
+/// Tile t of cells numbered cell by cell (first_tile, over `count` cells),
+/// each cell's rows [row_begin, row_end) (grid/pair_index.hpp), whose cell
+/// is found from cell `unit` (an earlier tile's) on (cell_of_work_item_from;
+/// `unit` becomes t's); `size` gives a cell's members.
+template <class Size>
+__device__ PairTile numbered_cell_tile(const std::uint64_t* first_tile, std::uint64_t count,
+                                       const std::uint64_t* row_begin, const std::uint64_t* row_end, const Size& size,
+                                       std::uint64_t t, std::uint64_t& unit) {
+  unit = cell_of_work_item_from(first_tile, count, unit, t);
+  return pair_tile(size(unit), row_begin[unit], row_end[unit], t - first_tile[unit]);
+}
+
 /// The uniform grid's cells as the tile kernel reads them: members are the
-/// registered leaves, each cell's swept along y in blocks (grid/pair_index.hpp;
-/// block_tiles_kernel numbers the tiles of a pass's rows), the VSS control bits decide which
-/// cell tests a pair (by the leaves' masks around the cell, or by their
-/// LeafCells where a block is wide), and the roots' DOPs alone decide what is kept.
-struct UniformTileCells {
+/// registered leaves, the VSS control bits decide which cell tests a pair
+/// (by the leaves' masks around the cell, or by their LeafCells where a
+/// block is wide), and the roots' DOPs alone decide what is kept. How a
+/// pass's tiles are found is UniformTileCells' or SweptTileCells'.
+struct UniformCells {
   using Member = RegisteredLeaf;
   using TileMember = UniformTileMember;
   struct Cell {
@@ -259,31 +301,9 @@ struct UniformTileCells {
   const UniformTileMember* tile_members;  ///< members[r] in its cell
   const FloatBox* tile_boxes;             ///< members[r]'s root's float box
   GridSpec grid;
-  const std::uint64_t* first_block;  ///< the cells' blocks' exclusive sum
-  const std::uint32_t* block_cell;
-  const std::uint64_t* first_tile;  ///< the blocks' tiles' exclusive sum
-  std::uint64_t units;              ///< the blocks numbered (some past the last may have no tile)
+  const std::uint64_t* first_tile;  ///< the units' tiles' exclusive sum
   const std::uint64_t* row_begin;   ///< a cell's rows [begin, end) in the pass
   const std::uint64_t* row_end;
-  const std::uint32_t* triangle_rank;
-
-  __device__ std::uint64_t tile_count() const { return first_tile[units]; }
-  /// Tile t, whose block is found from block `unit` (an earlier tile's) on
-  /// (cell_of_work_item_from; `unit` becomes t's): the block's rows of the
-  /// pass against its cell's column block b. A pass's tiles hold only its tests.
-  __device__ TileAt locate(std::uint64_t t, std::uint64_t& unit, std::uint32_t, std::uint32_t) const {
-    unit = cell_of_work_item_from(first_tile, units, unit, t);
-    const std::uint64_t c = block_cell[unit], a = unit - first_block[c], b = a + (t - first_tile[unit]);
-    const std::uint64_t n = size(c);
-    return {c, swept_tile(n, swept_rows(n, a, row_begin[c], row_end[c]), b), false};
-  }
-  /// A pass's rows hold only its tests: their roots' ranks lie in its range.
-  static constexpr bool kRowsInRange = true;
-  /// Where a test of roots low < high lies in the chunk order: the rank of
-  /// the earlier of the two in the sweep order.
-  __device__ std::uint32_t chunk_key(Index low, Index high) const {
-    return ::min(triangle_rank[low], triangle_rank[high]);
-  }
 
   __device__ std::uint64_t begin(std::uint64_t c) const { return first[c]; }
   __device__ std::uint64_t size(std::uint64_t c) const { return first[c + 1] - first[c]; }
@@ -304,6 +324,53 @@ struct UniformTileCells {
     return cell_pair_verdict(a.cells, b.cells);
   }
   __device__ bool leaves_overlap(const TileMember&, const TileMember&) const { return true; }
+  /// A pass's rows hold only its tests: their order keys lie in its range.
+  static constexpr bool kRowsInRange = true;
+};
+
+/// Uniform cells whose leaves ascend by root: a pass's rows are those of its
+/// root range, numbered cell by cell (chunk_tests_kernel); a test's chunk
+/// key is its smaller root.
+struct UniformTileCells : UniformCells {
+  std::uint64_t count;  ///< cells
+
+  __device__ std::uint64_t tile_count() const { return first_tile[count]; }
+  /// Tile t, whose cell is found from cell `unit` (an earlier tile's) on.
+  __device__ TileAt locate(std::uint64_t t, std::uint64_t& unit, std::uint32_t, std::uint32_t) const {
+    const PairTile tile = numbered_cell_tile(
+        first_tile, count, row_begin, row_end, [this](std::uint64_t c) { return size(c); }, t, unit);
+    return {unit, tile, false};
+  }
+  __device__ std::uint32_t chunk_key(Index low, Index) const { return low; }
+  static constexpr bool kSwept = false;
+};
+
+/// Uniform cells swept along y (grid/pair_index.hpp): each cell's leaves
+/// ascend by their root's rank in the sweep order (so by its float box's
+/// lower y), cut into blocks whose tiles block_tiles_kernel numbers for a
+/// pass's rows, those of its rank range; a test's chunk key is the rank of
+/// its earlier root.
+struct SweptTileCells : UniformCells {
+  const std::uint64_t* first_block;  ///< the cells' blocks' exclusive sum
+  const std::uint32_t* block_cell;
+  std::uint64_t units;  ///< the blocks numbered (some past the last may have no tile)
+  const std::uint32_t* triangle_rank;
+
+  __device__ std::uint64_t tile_count() const { return first_tile[units]; }
+  /// Tile t, whose block is found from block `unit` (an earlier tile's) on
+  /// (cell_of_work_item_from; `unit` becomes t's): the block's rows of the
+  /// pass against its cell's column block b.
+  __device__ TileAt locate(std::uint64_t t, std::uint64_t& unit, std::uint32_t, std::uint32_t) const {
+    unit = cell_of_work_item_from(first_tile, units, unit, t);
+    const std::uint64_t c = block_cell[unit], a = unit - first_block[c], b = a + (t - first_tile[unit]);
+    const std::uint64_t n = size(c);
+    return {c, swept_tile(n, swept_rows(n, a, row_begin[c], row_end[c]), b), false};
+  }
+  /// Where a test of roots low < high lies in the chunk order: the rank of
+  /// the earlier of the two in the sweep order.
+  __device__ std::uint32_t chunk_key(Index low, Index high) const {
+    return ::min(triangle_rank[low], triangle_rank[high]);
+  }
   /// Each cell's members ascend by their root's lower y.
   static constexpr bool kSwept = true;
 };
@@ -328,12 +395,11 @@ struct AdaptiveTileCells {
   std::uint64_t count;  ///< cells
 
   __device__ std::uint64_t tile_count() const { return first_tile[count]; }
-  /// Tile t, whose cell is found from cell `unit` (an earlier tile's) on
-  /// (cell_of_work_item_from; `unit` becomes t's), skipped where
-  /// tile_may_hold says so.
+  /// Tile t, whose cell is found from cell `unit` (an earlier tile's) on,
+  /// skipped where tile_may_hold says so.
   __device__ TileAt locate(std::uint64_t t, std::uint64_t& unit, std::uint32_t lo, std::uint32_t hi) const {
-    unit = cell_of_work_item_from(first_tile, count, unit, t);
-    const PairTile tile = pair_tile(size(unit), row_begin[unit], row_end[unit], t - first_tile[unit]);
+    const PairTile tile = numbered_cell_tile(
+        first_tile, count, row_begin, row_end, [this](std::uint64_t c) { return size(c); }, t, unit);
     return {unit, tile, !tile_may_hold(unit, tile, lo, hi)};
   }
 
@@ -631,12 +697,12 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
         // Swept cells' columns ascend by lower y: a row's tests end at the
         // first column whose lower y passes its upper y (those from it on are
         // apart in y), and the warp's at the last of its rows' ends.
-        unsigned lane_end = column_end;
+        unsigned lane_end = column_end, warp_end = column_end;
         if (Cells::kSwept) {
           auto low = [&](std::uint64_t j) { return sweep_low(columns.boxes[j]); };
           lane_end = static_cast<unsigned>(swept_run_end(low, column_begin, column_end, sweep_high(box)));
+          warp_end = __reduce_max_sync(0xffffffffu, has_row ? lane_end : 0u);
         }
-        const unsigned warp_end = __reduce_max_sync(0xffffffffu, has_row ? lane_end : 0u);
         // Below the warp's first row's first column no lane has a test.
         for (unsigned column = ::max(column_begin, diagonal ? after + warp_row : 0u); column < warp_end; ++column) {
           if (has_row && column >= lane_first && column < lane_end)
@@ -765,25 +831,10 @@ std::vector<RootRange> split_range(RootRange range, const std::vector<unsigned>&
   return parts;
 }
 
-}  // namespace
-
-void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
-                                   const DeviceCellLists& lists, const GridSpec& grid, DevicePairs& p,
-                                   cudaStream_t stream, const GrowthCheck& check) {
-  const std::size_t cells = lists.cells;
-  const std::size_t registrations = lists.leaves.size();
-  check_id_range(triangle_count, cells);
-  check_growth(check, p.registered.growth_bytes(registrations) + p.tile_members.growth_bytes(registrations) +
-                          p.tile_boxes.growth_bytes(registrations) + p.order_keys.growth_bytes(registrations) +
-                          p.order_keys_spare.growth_bytes(registrations) + p.order_ids.growth_bytes(registrations) +
-                          p.order_ids_spare.growth_bytes(registrations) + p.triangle_rank.growth_bytes(triangle_count) +
-                          p.rank_keys.growth_bytes(triangle_count) + p.rank_keys_spare.growth_bytes(triangle_count) +
-                          p.rank_ids.growth_bytes(triangle_count) + p.rank_ids_spare.growth_bytes(triangle_count));
-  p.registered.resize(registrations);
-  p.tile_members.resize(registrations);
-  p.tile_boxes.resize(registrations);
-  if (registrations == 0) return;
-  // The triangles' ranks in the sweep order (a stable sort: ties by id).
+/// Each triangle's rank in the sweep order, into p.triangle_rank (a stable
+/// sort of its float box's lower y: ties by id).
+void rank_triangles(const FloatBox* triangle_boxes, std::size_t triangle_count, DevicePairs& p, cudaStream_t stream,
+                    const GrowthCheck& check) {
   p.triangle_rank.resize(triangle_count);
   p.rank_keys.resize(triangle_count);
   p.rank_keys_spare.resize(triangle_count);
@@ -798,22 +849,44 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
   rank_scatter_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(
       rank_ids.Current(), triangle_count, p.triangle_rank.data());
   SNAG_CUDA_CHECK_LAUNCH();
-  const int rank_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0);
-  // The registrations by cell, then by their root's rank.
+}
+
+}  // namespace
+
+void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
+                                   const DeviceCellLists& lists, const GridSpec& grid, bool swept, DevicePairs& p,
+                                   cudaStream_t stream, const GrowthCheck& check) {
+  const std::size_t cells = lists.cells;
+  const std::size_t registrations = lists.leaves.size();
+  check_id_range(triangle_count, cells);
+  const std::size_t ranked = swept ? triangle_count : 0;
+  check_growth(check, p.registered.growth_bytes(registrations) + p.tile_members.growth_bytes(registrations) +
+                          p.tile_boxes.growth_bytes(registrations) + p.order_keys.growth_bytes(registrations) +
+                          p.order_keys_spare.growth_bytes(registrations) + p.order_ids.growth_bytes(registrations) +
+                          p.order_ids_spare.growth_bytes(registrations) + p.triangle_rank.growth_bytes(ranked) +
+                          p.rank_keys.growth_bytes(ranked) + p.rank_keys_spare.growth_bytes(ranked) +
+                          p.rank_ids.growth_bytes(ranked) + p.rank_ids_spare.growth_bytes(ranked));
+  p.registered.resize(registrations);
+  p.tile_members.resize(registrations);
+  p.tile_boxes.resize(registrations);
+  if (registrations == 0) return;
+  if (swept) rank_triangles(triangle_boxes, triangle_count, p, stream, check);
+  const int key_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0);
+  // The registrations by cell, then by their root (swept: its rank).
   p.order_keys.resize(registrations);
   p.order_keys_spare.resize(registrations);
   p.order_ids.resize(registrations);
   p.order_ids_spare.resize(registrations);
   registration_keys_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-      leaves, lists.first.data(), cells, lists.leaves.data(), registrations, p.triangle_rank.data(), rank_bits,
-      p.order_keys.data(), p.order_ids.data());
+      leaves, lists.first.data(), cells, lists.leaves.data(), registrations, swept ? p.triangle_rank.data() : nullptr,
+      key_bits, p.order_keys.data(), p.order_ids.data());
   SNAG_CUDA_CHECK_LAUNCH();
   cub::DoubleBuffer<std::uint64_t> keys(p.order_keys.data(), p.order_keys_spare.data());
   cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
-  radix_sort_pairs(keys, ids, registrations, rank_bits + radix_bits(cells > 0 ? cells - 1 : 0), p.temp, stream,
+  radix_sort_pairs(keys, ids, registrations, key_bits + radix_bits(cells > 0 ? cells - 1 : 0), p.temp, stream,
                    check);
   gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-      leaves, ids.Current(), keys.Current(), rank_bits, lists.cell_ids.data(), grid, triangle_boxes, registrations,
+      leaves, ids.Current(), keys.Current(), key_bits, lists.cell_ids.data(), grid, triangle_boxes, registrations,
       p.registered.data(), p.tile_members.data(), p.tile_boxes.data());
   SNAG_CUDA_CHECK_LAUNCH();
 }
@@ -1036,28 +1109,41 @@ std::size_t uniform_numbering_bytes(std::size_t cells, std::size_t registrations
   return (cells + 1) * 5 * sizeof(std::uint64_t) + (blocks + 1) * (3 * sizeof(std::uint64_t) + sizeof(std::uint32_t));
 }
 
-void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
-                               const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                               PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
+void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, bool swept,
+                               const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::size_t triangle_count,
+                               bool count_culled, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
+                               BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit) {
   const std::size_t cells = lists.cells;
   check_id_range(triangle_count, cells);
-  // (lists.leaves may have been given back: p.registered holds the registrations.)
-  const std::size_t units = uniform_blocks_bound(cells, p.registered.size());
-  p.cell_pairs.resize(cells + 1);
-  p.cell_blocks.resize(cells + 1);
-  p.first_block.resize(cells + 1);
+  // The units the tiles are numbered by: cells, or swept, blocks of leaves
+  // (lists.leaves may have been given back: p.registered holds the registrations).
+  const std::size_t units = swept ? uniform_blocks_bound(cells, p.registered.size()) : cells;
   p.row_begin.resize(cells + 1);
   p.row_end.resize(cells + 1);
-  p.block_cell.resize(units);
   p.cell_tests.resize(units + 1);
   p.cell_tiles.resize(units + 1);
   p.first_tile.resize(units + 1);
-  const UniformTileCells source{lists.first.data(),   lists.cell_ids.data(), p.registered.data(),
-                                p.tile_members.data(), p.tile_boxes.data(),   grid,
-                                p.first_block.data(),  p.block_cell.data(),   p.first_tile.data(),
-                                units,                 p.row_begin.data(),    p.row_end.data(),
-                                p.triangle_rank.data()};
+  const UniformCells base{lists.first.data(),  lists.cell_ids.data(), p.registered.data(),
+                          p.tile_members.data(), p.tile_boxes.data(),  grid,
+                          p.first_tile.data(),   p.row_begin.data(),   p.row_end.data()};
+  if (!swept) {
+    const UniformTileCells source{base, cells};
+    auto number_units = [&](RootRange range) {
+      chunk_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
+          lists.first.data(), cells, p.tile_members.data(), range.first, range.end, p.cell_tests.data(),
+          p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
+      SNAG_CUDA_CHECK_LAUNCH();
+    };
+    run_pair_tests(source, cells, 0, number_units, triangle_dops, triangle_boxes, triangle_count, count_culled, plan,
+                   p, stream, stats, visit);
+    return;
+  }
+  p.cell_pairs.resize(cells + 1);
+  p.cell_blocks.resize(cells + 1);
+  p.first_block.resize(cells + 1);
+  p.block_cell.resize(units);
+  const SweptTileCells source{base, p.first_block.data(), p.block_cell.data(), units, p.triangle_rank.data()};
   auto number_units = [&](RootRange range) {
     cell_rows_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
         lists.first.data(), cells, p.tile_members.data(), p.triangle_rank.data(), range.first, range.end,

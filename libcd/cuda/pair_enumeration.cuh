@@ -1,13 +1,15 @@
 // The candidate tests on the GPU, mirroring step 5-6 of
-// libcd/broad_phase/virtual_subdivision_grid.cpp: each uniform cell's leaves
-// are ordered by the lower y of their root's float box (the sweep order of the
-// roots, ties by triangle: each root's rank in it), and a leaf is tested
-// only against those after it up to the first whose lower y passes its upper
-// y (the cell's other pairs are apart in y: culled by their boxes untested,
-// as on the CPU). The cell's tests are cut into square tiles
-// (grid/pair_index.hpp, swept cells): a block of 64 leaves meets the blocks
-// from its own to the last its rows' runs reach, each tile's count prefix
-// summed; a block of threads finds its tile from the sums, reads the tile's
+// libcd/broad_phase/virtual_subdivision_grid.cpp: each uniform cell's tests
+// are cut into square tiles (grid/pair_index.hpp), each cell's count prefix
+// summed. Swept cells are the CPU grid's: a cell's leaves are ordered by the
+// lower y of their root's float box (the sweep order of the roots, ties by
+// triangle: each root's rank in it), and a leaf is tested only against those
+// after it up to the first whose lower y passes its upper y (the cell's other
+// pairs are apart in y: culled by their boxes untested, as on the CPU); a
+// block of 64 leaves meets the blocks from its own to the last its rows' runs
+// reach, each block's tiles counted. Otherwise a cell's leaves are ordered by
+// root and every pair is tested. A block of threads finds its tile from the
+// sums, reads the tile's
 // two runs of leaves (from a copy of them in cell order, coalesced) and their
 // roots' float boxes into shared memory once, and its threads run the tile's
 // tests from there with the same filters as the CPU (same root, time slots,
@@ -48,7 +50,7 @@ struct UniformTileMember {
 
 /// Buffers of the pair stage, reused across calls (they only grow).
 struct DevicePairs {
-  /// Cell by cell, each cell's by its root's rank (triangle_rank).
+  /// Cell by cell, each cell's by root (swept: by its root's rank, triangle_rank).
   DeviceBuffer<RegisteredLeaf> registered;
   /// registered[r] in its cell, and its root's float box (both in the order of registered).
   DeviceBuffer<UniformTileMember> tile_members;
@@ -59,13 +61,13 @@ struct DevicePairs {
   /// (sweep_low), ties by triangle. The uniform grid's chunks are ranges of it.
   DeviceBuffer<std::uint32_t> triangle_rank;
   DeviceBuffer<std::uint32_t> rank_keys, rank_keys_spare, rank_ids, rank_ids_spare;  ///< the ranks' sort
-  /// The tests in the tiles of each unit (a uniform cell's block of leaves,
-  /// an adaptive cell) and their sum; test_total[1]: every pair of the
-  /// uniform cells, tested or not.
+  /// The tests in the tiles of each unit (a cell, or a swept cell's block of
+  /// leaves) and their sum; test_total[1]: every pair of the swept cells,
+  /// tested or not.
   DeviceBuffer<std::uint64_t> cell_tests, test_total;
   DeviceBuffer<std::uint64_t> cell_tiles, first_tile;  ///< tiles per unit, and their exclusive sum
   DeviceBuffer<std::uint64_t> row_begin, row_end;      ///< a cell's rows [begin, end) in a pass
-  /// A uniform cell's every pair and blocks, and the blocks' exclusive sum.
+  /// A swept cell's every pair and blocks, and the blocks' exclusive sum.
   DeviceBuffer<std::uint64_t> cell_pairs, cell_blocks, first_block;
   DeviceBuffer<std::uint32_t> block_cell;  ///< a block's cell
   DeviceBuffer<std::uint64_t> kept, culled, sorted;  ///< kept and sorted: the sort's two halves
@@ -93,9 +95,9 @@ struct DevicePairs {
   }
 };
 
-/// Device bytes of the numbering of the tests and tiles of `cells` uniform
-/// cells holding `registrations` leaves (an upper bound: their blocks are
-/// counted as at most one a cell more than registrations / kPairTileSide).
+/// Device bytes of the numbering of the tests and tiles of `cells` swept
+/// uniform cells holding `registrations` leaves (an upper bound: their blocks
+/// are counted as at most one a cell more than registrations / kPairTileSide).
 std::size_t uniform_numbering_bytes(std::size_t cells, std::size_t registrations);
 
 /// Device bytes per kept test of a chunk: its key, the sort's second half,
@@ -103,8 +105,8 @@ std::size_t uniform_numbering_bytes(std::size_t cells, std::size_t registrations
 constexpr std::size_t kPairChunkBytesPerTest = 3 * sizeof(std::uint64_t);
 
 /// The chunk order's [first, end) whose pairs one chunk holds: the pairs whose
-/// earlier leaf in the sweep order has its root's rank there (the uniform
-/// grid), or whose smaller root lies there (the adaptive grid).
+/// smaller root lies there, or in swept cells those whose earlier leaf in the
+/// sweep order has its root's rank there.
 struct RootRange {
   std::uint32_t first = 0, end = 0;
 };
@@ -116,12 +118,12 @@ struct RootRange {
 /// more, the tests are split by the chunk order (RootRange) into ranges of at
 /// most key_room kept tests each, read from a histogram of the kept tests
 /// over the range, and every range runs as a pass of its own: in the uniform
-/// grid the rows of its ranks (contiguous in each cell, whose leaves ascend by
-/// rank), in the adaptive grid every tile that may hold a test of the range,
-/// only the range's tests run. A root pair's tests all lie in one range, so
-/// each chunk's unique pairs are unique in the whole set and every count is
-/// the sum over chunks; the adaptive grid's chunks ascend by root pair, the
-/// uniform grid's only within each. `plan` holds the ranges of the last call
+/// grid the rows of its roots (swept: ranks; contiguous in each cell, whose
+/// leaves ascend by them), in the adaptive grid every tile that may hold a
+/// test of the range, only the range's tests run. A root pair's tests all lie
+/// in one range, so each chunk's unique pairs are unique in the whole set and
+/// every count is the sum over chunks; the chunks ascend by root pair, but
+/// for the swept cells'. `plan` holds the ranges of the last call
 /// and is tried first (a scan's steps are alike); on return it holds this call's.
 /// Throws UsageError when the kept tests of one triangle exceed key_room.
 struct PairChunkPlan {
@@ -129,9 +131,9 @@ struct PairChunkPlan {
   std::vector<RootRange> ranges;
 };
 
-/// Ranks the triangles in the sweep order (pairs.triangle_rank) and copies the
-/// registered leaves into pairs.registered, cell by cell and each cell's by
-/// its root's rank (stable), with each
+/// Copies the registered leaves into pairs.registered, cell by cell and each
+/// cell's by root (stable), or `swept` by their root's rank in the sweep
+/// order (pairs.triangle_rank, ranked first), with each
 /// one's UniformTileMember in the grid's cell it is registered in and its
 /// root's float box (triangle_boxes, #F) beside it, which is all the pair
 /// tests read of them: the leaves and the registration's scratch may be
@@ -139,15 +141,16 @@ struct PairChunkPlan {
 /// add before they allocate (it may throw). Throws CudaError, or what `check`
 /// throws.
 void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
-                                   const DeviceCellLists& lists, const GridSpec& grid, DevicePairs& pairs,
+                                   const DeviceCellLists& lists, const GridSpec& grid, bool swept, DevicePairs& pairs,
                                    cudaStream_t stream, const GrowthCheck& check = {});
 
 /// Runs the tests of the registered cells (pairs.registered and the rest,
-/// from order_registrations_on_device with the same grid and boxes) and
-/// hands the unique triangle pairs to `visit` chunk by chunk (see PairChunkPlan), each chunk's pairs
-/// ascending (the chunks are not: they are ranges of the sweep order); the device array passed to
-/// visit is valid until it returns. Fills stats' test counters (a cell's
-/// pairs apart in y, untested, count in culled_by_boxes: the CPU's counts),
+/// from order_registrations_on_device with the same grid, boxes and
+/// `swept`) and hands the unique triangle pairs to `visit` chunk by chunk
+/// (see PairChunkPlan), each chunk's pairs ascending (and the chunks, but
+/// for swept cells'); the device array passed to visit is valid until it
+/// returns. Fills stats' test counters (a swept cell's pairs apart in y,
+/// untested, count in culled_by_boxes: the CPU's counts),
 /// culled_by_dop, duplicate_root_pair_tests, duplicate_culled_tests (when
 /// count_culled: the culled tests' keys are then kept, see
 /// BroadPhaseSettings; their room is not bounded by the plan) and
@@ -157,9 +160,10 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
 /// @param triangle_dops  #F device root swept DOPs; triangle_count = #F
 /// @param triangle_boxes #F device float_box_of(triangle_dops[f]): a pair whose
 ///                       boxes are apart is culled without reading its DOPs
-void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
-                               const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                               PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream, BroadPhaseStats& stats,
+void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, bool swept,
+                               const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::size_t triangle_count,
+                               bool count_culled, PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream,
+                               BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit);
 
 /// As enumerate_pairs_on_device for the adaptive grid's test cells (from
