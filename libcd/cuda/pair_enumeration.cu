@@ -927,7 +927,8 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
     std::uint64_t tests = 0, tiles = 0, pairs = 0;
     bool known = false;  ///< read back (else only on the device, in test_total and first_tile[units])
   };
-  // Counts from test_total's two sums and the tiles read back.
+  // Counts from test_total's sums (the second only for pair_cells) and the tiles read back.
+  const std::size_t sums_read = pair_cells > 0 ? 2 : 1;
   auto take_sums = [&](const std::uint64_t (&sums)[2], Numbered& counts) {
     counts.tests = sums[0];
     counts.pairs = pair_cells > 0 ? sums[1] : sums[0];
@@ -942,7 +943,7 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
     Numbered counts;
     if (!read) return counts;
     std::uint64_t sums[2] = {};
-    ReadBack(stream).add(sums, p.test_total.data(), 2).add(&counts.tiles, p.first_tile.data() + units).wait();
+    ReadBack(stream).add(sums, p.test_total.data(), sums_read).add(&counts.tiles, p.first_tile.data() + units).wait();
     take_sums(sums, counts);
     return counts;
   };
@@ -1027,7 +1028,7 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
       read.add(counts, p.counters.data(), kCounters).add(histogram.data(), p.histogram.data(), kHistogramBuckets);
       std::uint64_t sums[2] = {};
       if (!range_counts.known)
-        read.add(sums, p.test_total.data(), 2).add(&range_counts.tiles, p.first_tile.data() + units);
+        read.add(sums, p.test_total.data(), sums_read).add(&range_counts.tiles, p.first_tile.data() + units);
       read.wait();
       if (!range_counts.known) {
         take_sums(sums, range_counts);
