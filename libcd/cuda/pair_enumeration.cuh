@@ -9,16 +9,15 @@
 // block of 64 leaves meets the blocks from its own to the last its rows' runs
 // reach, each block's tiles counted. Otherwise a cell's leaves are ordered by
 // root and every pair is tested. A block of threads finds its tile from the
-// sums, reads the tile's
-// two runs of leaves (from a copy of them in cell order, coalesced) and their
-// roots' float boxes into shared memory once, and its threads run the tile's
-// tests from there with the same filters as the CPU (same root, time slots,
-// control bits and extended control bits, root 18-DOPs), appending the root
-// pairs; a device sort + unique gives the exact set of triangle pairs,
-// ordered as the CPU's. The adaptive grid's test cells (adaptive_cells.cuh)
-// run through the same tiles (every pair of a cell's stuck members' rows),
-// with the CPU adaptive grid's rule (the cell that owns a pair tests it; leaf
-// and root DOPs).
+// sums, reads the tile's two runs of leaves (from a copy of them in cell
+// order, coalesced) and their roots' float boxes into shared memory once, and
+// its threads run the tile's tests from there with the same filters as the
+// CPU (same root, time slots, control bits and extended control bits, root
+// 18-DOPs), appending the root pairs; a device sort + unique gives the exact
+// set of triangle pairs, ordered as the CPU's. The adaptive grid's test cells
+// (adaptive_cells.cuh) run through the same tiles (every pair of a cell's
+// stuck members' rows), with the CPU adaptive grid's rule (the cell that owns
+// a pair tests it; leaf and root DOPs).
 #pragma once
 
 #include <cuda_runtime_api.h>
@@ -123,8 +122,8 @@ struct RootRange {
 /// test of the range, only the range's tests run. A root pair's tests all lie
 /// in one range, so each chunk's unique pairs are unique in the whole set and
 /// every count is the sum over chunks; the chunks ascend by root pair, but
-/// for the swept cells'. `plan` holds the ranges of the last call
-/// and is tried first (a scan's steps are alike); on return it holds this call's.
+/// for the swept cells'. `plan` holds the ranges of the last call and is
+/// tried first (a scan's steps are alike); on return it holds this call's.
 /// Throws UsageError when the kept tests of one triangle exceed key_room.
 struct PairChunkPlan {
   std::size_t key_room = ~std::size_t{0};
