@@ -218,10 +218,11 @@ VirtualSubdivisionGrid::PairTests VirtualSubdivisionGrid::uniform_pair_tests() {
   std::vector<std::uint64_t> first_test(registered.size() + 1, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64), [&](const auto& range) {
     for (std::size_t c = range.begin(); c != range.end(); ++c) {
-      auto low = [&](std::uint64_t j) { return low_y[j]; };
+      const auto cell_end = low_y.begin() + static_cast<std::ptrdiff_t>(lists.first[c + 1]);
       for (std::uint64_t r = lists.first[c]; r < lists.first[c + 1]; ++r) {
         const float high_y = sweep_high(root_boxes_[registered[r].root]);
-        first_test[r + 1] = swept_run_end(low, r + 1, lists.first[c + 1], high_y) - (r + 1);
+        const auto next = low_y.begin() + static_cast<std::ptrdiff_t>(r) + 1;
+        first_test[r + 1] = static_cast<std::uint64_t>(std::upper_bound(next, cell_end, high_y) - next);
       }
     }
   });

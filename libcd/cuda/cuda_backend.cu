@@ -236,7 +236,7 @@ struct StaticFound {
   std::vector<Event> events;
   TrianglePairCounts counts;
   BroadPhaseStats broad;
-  std::size_t tests = 0, chunks = 0;
+  std::size_t tests = 0;
   double narrow_seconds = 0, device_seconds = 0;
 };
 
@@ -455,15 +455,12 @@ class CudaBackend final : public Backend {
     stats_.narrow.predicate_exact = found.counts.predicate_exact;
     stats_.narrow.triangle_tests = found.tests;
     // The events of a detection in chunks, then those of its last chunk,
-    // from where the device left them; each chunk's in event order, those of
-    // several put in event order (the uniform grid's chunks are ranges of its
-    // sweep order, not of the triangle pairs).
+    // from where the device left them.
     const auto events_start = std::chrono::steady_clock::now();
     const std::size_t before = events.size();
     arena_->execute([&] {
       append_events(events, found.events.data(), found.events.size());
       static_narrow_.flush_events_to(events);
-      if (found.chunks > 1) sort_events_from(events, before);
     });
     const std::size_t intersecting = events.size() - before;
     stats_.narrow.seconds_static_events = seconds_since(events_start);
@@ -498,7 +495,6 @@ class CudaBackend final : public Backend {
       static_narrow_.triangle_pair_events(d_x, triangles_.data(), chunk.pairs, chunk.pair_count, found.events,
                                           found.counts);
       found.tests += chunk.pair_count;
-      ++found.chunks;
       found.narrow_seconds += seconds_since(start);
     };
     detect_within_budget(static_detection(), ccd_detection(), [&] {
@@ -506,7 +502,6 @@ class CudaBackend final : public Backend {
       static_narrow_.drop_events();
       found.counts = TrianglePairCounts{};
       found.tests = 0;
-      found.chunks = 0;
       found.narrow_seconds = 0;
       static_narrow_.reset_timings();
       static_broad_->detect_static_on_device(d_x, static_stream_.get(), visit_chunk);

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <string>
 
 #include "libcd/core/error.hpp"
@@ -63,13 +62,7 @@ void append_download(const T* items, std::size_t count, std::vector<T>& host, cu
 
 }  // namespace
 
-CellOrder default_cell_order() {
-  const char* swept = std::getenv("SNAG_CUDA_SWEPT_CELLS");
-  return swept != nullptr && std::string(swept) == "1" ? CellOrder::kSwept : CellOrder::kRoot;
-}
-
-CudaBroadPhase::CudaBroadPhase(bool subdivide, bool adaptive, CellOrder order)
-    : subdivide_(subdivide), adaptive_(adaptive), swept_(!adaptive && order == CellOrder::kSwept) {}
+CudaBroadPhase::CudaBroadPhase(bool subdivide, bool adaptive) : subdivide_(subdivide), adaptive_(adaptive) {}
 CudaBroadPhase::~CudaBroadPhase() = default;
 
 void CudaBroadPhase::build(const Scene& scene, const BroadPhaseSettings& settings) {
@@ -208,7 +201,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   if (!adaptive_)
     order_registrations_on_device(b.subdivision.leaves.data(), triangle_count, b.bounds.triangle_boxes.data(),
-                                  b.cells, grid, swept_, b.pairs, stream,
+                                  b.cells, grid, b.pairs, stream,
                                   budget_check("copy of the leaves for the pair tests"));
   if (budget_ > 0 && held_bytes() - chunk_bytes() > budget_ / 2) release_stage_buffers();
 
@@ -217,10 +210,8 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   std::size_t key_room = ~std::size_t{0};
   candidate_room_ = ~std::size_t{0};
   if (budget_ > 0) {
-    const std::size_t numbering = swept_ ? uniform_numbering_bytes(test_cells, b.pairs.registered.size())
-                                         : (test_cells + 1) * 3 * sizeof(std::uint64_t);
-    const std::size_t fixed =
-        held_bytes() - chunk_bytes() + numbering + (std::size_t{4} << 20);  // counters, histogram, sort scratch
+    const std::size_t fixed = held_bytes() - chunk_bytes() + (test_cells + 1) * 3 * sizeof(std::uint64_t) +
+                              (std::size_t{4} << 20);  // counters, histogram, sort scratch
     if (fixed >= budget_)
       throw UsageError("the device memory limit is too small for this scene: the broad phase holds " +
                        std::to_string(fixed) + " bytes before its pair tests, its share of the limit is " +
@@ -259,7 +250,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
                                        triangle_count, settings_.count_culled_duplicates, *plan_, b.pairs, stream,
                                        stats_, visit_chunk);
   else
-    enumerate_pairs_on_device(b.cells, grid, swept_, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
+    enumerate_pairs_on_device(b.cells, grid, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
                               triangle_count, settings_.count_culled_duplicates, *plan_, b.pairs, stream, stats_,
                               visit_chunk);
 }
@@ -368,10 +359,8 @@ void CudaBroadPhase::detect_static(const std::vector<Vec3>& x, std::vector<Trian
   buffers_->x_t0.upload(x);
   pairs.clear();
   detect_static_on_device(buffers_->x_t0.data(), stream_, [&](const DeviceCandidates& chunk) {
-    append_download(chunk.pairs, chunk.pair_count, pairs, stream_);
+    append_download(chunk.pairs, chunk.pair_count, pairs, stream_);  // chunks ascend
   });
-  // Chunks are sorted each (the uniform grid's cover ranges of its sweep order): the whole sorted as the CPU's.
-  if (last_chunks_ > 1) std::sort(pairs.begin(), pairs.end());
 }
 
 std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census() const {
@@ -410,9 +399,6 @@ std::vector<std::pair<std::string, std::size_t>> CudaBroadPhase::memory_census()
                                       p.tile_boxes.capacity_bytes());
   add("pairs: registered leaves' sort", p.order_keys.capacity_bytes() + p.order_keys_spare.capacity_bytes() +
                                            p.order_ids.capacity_bytes() + p.order_ids_spare.capacity_bytes());
-  add("pairs: triangles' sweep ranks and their sort",
-      p.triangle_rank.capacity_bytes() + p.rank_keys.capacity_bytes() + p.rank_keys_spare.capacity_bytes() +
-          p.rank_ids.capacity_bytes() + p.rank_ids_spare.capacity_bytes());
   add("pairs: cell tests and tiles", p.cell_test_bytes());
   add("pairs: kept test keys (chunk)", p.kept.capacity_bytes());
   add("pairs: sorted keys (chunk)", p.sorted.capacity_bytes());
@@ -468,10 +454,6 @@ void for_each_chunk_buffer(CudaBroadPhaseBuffers& b, Visit visit) {
   visit(p.first_tile);
   visit(p.row_begin);
   visit(p.row_end);
-  visit(p.cell_pairs);
-  visit(p.cell_blocks);
-  visit(p.first_block);
-  visit(p.block_cell);
   visit(f.tally);
   visit(f.kept);
   for (DeviceBuffer<std::uint64_t>* keys : {&f.vf_keys, &f.ee_keys, &f.vf_sorted, &f.ee_sorted}) visit(*keys);
@@ -504,9 +486,6 @@ void CudaBroadPhase::release_stage_buffers() {
   b.pairs.order_keys_spare.release();
   b.pairs.order_ids.release();
   b.pairs.order_ids_spare.release();
-  for (DeviceBuffer<std::uint32_t>* scratch :
-       {&b.pairs.rank_keys, &b.pairs.rank_keys_spare, &b.pairs.rank_ids, &b.pairs.rank_ids_spare})
-    scratch->release();
 }
 
 void CudaBroadPhase::release_buffers() {
@@ -524,9 +503,9 @@ void CudaBroadPhase::release_buffers() {
 
 std::unique_ptr<BroadPhase> make_cuda_broad_phase(BroadPhaseMethod method) { return CudaBroadPhase::create(method); }
 
-std::unique_ptr<CudaBroadPhase> CudaBroadPhase::create(BroadPhaseMethod method, CellOrder order) {
-  if (method == BroadPhaseMethod::kVirtualSubdivisionGrid) return std::make_unique<CudaBroadPhase>(true, false, order);
-  if (method == BroadPhaseMethod::kLargestTriangleGrid) return std::make_unique<CudaBroadPhase>(false, false, order);
+std::unique_ptr<CudaBroadPhase> CudaBroadPhase::create(BroadPhaseMethod method) {
+  if (method == BroadPhaseMethod::kVirtualSubdivisionGrid) return std::make_unique<CudaBroadPhase>(true);
+  if (method == BroadPhaseMethod::kLargestTriangleGrid) return std::make_unique<CudaBroadPhase>(false);
   if (method == BroadPhaseMethod::kAdaptiveGrid) return std::make_unique<CudaBroadPhase>(true, true);
   // The CPU's others: brute force, the box grid, sweep and prune.
   throw UsageError(std::string("broad phase: the CUDA back end has no ") + broad_phase_method_name(method) +

@@ -60,28 +60,15 @@ using CandidateVisitor = std::function<void(const DeviceCandidates&)>;
 struct CudaBroadPhaseBuffers;  // device buffers, defined in cuda_broad_phase.cu
 struct PairChunkPlan;          // pair_enumeration.cuh
 
-/// How the uniform grid's cells order their leaves for the pair tests
-/// (pair_enumeration.cuh): by root, every pair of a cell tested; or swept
-/// along y, as the CPU's grid, only the pairs whose boxes meet in y tested
-/// (the others are culled by their boxes all the same: the same counts and
-/// candidates).
-enum class CellOrder { kRoot, kSwept };
-
-/// kSwept when the environment variable SNAG_CUDA_SWEPT_CELLS is "1", else
-/// kRoot: the swept cells are new on the GPU, and chosen by hand until they
-/// have been measured against the others there.
-CellOrder default_cell_order();
-
 class CudaBroadPhase final : public BroadPhase {
  public:
   /// subdivide = true: the VSS grid; false: the cell fits the largest triangle.
   /// adaptive = true: its crowded cells subdivided (the adaptive grid,
   /// cuda/adaptive_cells.cuh), as the CPU's VirtualSubdivisionGrid::Cells::kAdaptive.
-  /// order: the uniform cells' (not the adaptive grid's).
-  explicit CudaBroadPhase(bool subdivide, bool adaptive = false, CellOrder order = CellOrder::kRoot);
+  explicit CudaBroadPhase(bool subdivide, bool adaptive = false);
   ~CudaBroadPhase() override;
   /// For kVirtualSubdivisionGrid, kLargestTriangleGrid or kAdaptiveGrid; UsageError for the others.
-  static std::unique_ptr<CudaBroadPhase> create(BroadPhaseMethod method, CellOrder order = default_cell_order());
+  static std::unique_ptr<CudaBroadPhase> create(BroadPhaseMethod method);
 
   /// The stream its detections run on. Given before build(), build() makes
   /// its buffers and uploads the topology on it, once; a detection on another
@@ -119,8 +106,7 @@ class CudaBroadPhase final : public BroadPhase {
   void detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, const CandidateVisitor& visit,
                             bool sorted = true, const CcdSettings* screen = nullptr, std::size_t screen_above = 0);
   /// Static triangle pairs for #V device positions d_x (DeviceCandidates::pairs
-  /// only), chunk by chunk, each chunk's ascending (the uniform grid's chunks
-  /// are ranges of its sweep order, not of the pairs: see PairChunkPlan).
+  /// only), chunk by chunk in ascending order.
   void detect_static_on_device(const Vec3* d_x, cudaStream_t stream, const CandidateVisitor& visit);
 
   /// The most device bytes this broad phase's buffers may hold during a
@@ -174,7 +160,6 @@ class CudaBroadPhase final : public BroadPhase {
   void release_stage_buffers();
 
   bool subdivide_, adaptive_;
-  bool swept_;  ///< the uniform cells swept along y (CellOrder::kSwept)
   const Scene* scene_ = nullptr;
   BroadPhaseSettings settings_;
   BroadPhaseStats stats_;

@@ -6,13 +6,11 @@
 // chapter, section 5.3.3 (control bits, extended control bits).
 // Primitives: CUB DeviceScan, DeviceRadixSort, DeviceSelect::Unique.
 //
-// Chunks (uniform grid): each cell's leaves ascend by their root (or, swept,
-// by their root's rank in the sweep order), so that a pass over a range [lo,
-// hi) of roots (ranks) runs the rows of each cell whose root (rank) lies in
-// it, contiguous there, against the leaves after them: the pairs whose
-// earlier leaf's root (rank) is in the range. A root pair's leaves come in
-// the same order in every cell that tests it, so all of its tests fall in
-// one pass; all passes together run each test once.
+// Chunks: each cell's leaves are ordered by root triangle (the tests' filters
+// and keys do not depend on which leaf of a pair comes first), so that the
+// tests of a cell whose smaller root lies in a range [lo, hi) are the rows
+// i0..i1-1 of its triangular numbering: one contiguous run of work items. A
+// chunk's pass runs exactly its own tests; all chunks together run each test once.
 #include "libcd/cuda/pair_enumeration.cuh"
 
 #include <cub/device/device_reduce.cuh>
@@ -28,7 +26,6 @@
 
 #include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
-#include "libcd/geometry/order_key.hpp"
 #include "libcd/grid/control_bits.hpp"
 #include "libcd/grid/pair_index.hpp"
 
@@ -45,49 +42,20 @@ using detail::radix_sort_pairs;
 using detail::thread_item;
 using detail::unpack_key;
 
-/// Counter slots of the test kernel. The tests whose boxes are apart are not
-/// counted: they are every pair of the cells but those that any later
-/// filter counts (a swept cell leaves most of them untested).
-enum Counter { kSameRoot, kTimeSlots, kControlBits, kExtended, kFallback, kPassed, kKept, kCulled, kCounters };
+/// Counter slots of the test kernel.
+enum Counter {
+  kBoxesApart, kSameRoot, kTimeSlots, kControlBits, kExtended, kFallback, kPassed, kKept, kCulled, kCounters
+};
 
-/// Throws UsageError when triangles or cells cannot be numbered in 32 bits.
-void check_id_range(std::size_t triangle_count, std::size_t cells) {
-  if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
-    throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
-}
-
-/// Sort keys of the triangles in the sweep order, the lower y of each one's
-/// float box (order_key of sweep_low), and their ids.
-__global__ void rank_keys_kernel(const FloatBox* boxes, std::size_t count, std::uint32_t* keys, std::uint32_t* ids) {
-  const std::uint64_t f = thread_item();
-  if (f >= count) return;
-  keys[f] = order_key(sweep_low(boxes[f]));
-  ids[f] = static_cast<std::uint32_t>(f);
-}
-
-/// rank[f] = k where the k-th of the sorted ids is f.
-__global__ void rank_scatter_kernel(const std::uint32_t* sorted_ids, std::size_t count, std::uint32_t* rank) {
-  const std::uint64_t k = thread_item();
-  if (k < count) rank[sorted_ids[k]] = static_cast<std::uint32_t>(k);
-}
-
-/// A root's place in a cell's order: the root itself, or its rank in the
-/// sweep order (triangle_rank, when given).
-SNAG_HD_INLINE std::uint32_t cell_order_key(const std::uint32_t* triangle_rank, Index root) {
-  return triangle_rank != nullptr ? triangle_rank[root] : root;
-}
-
-/// Sort keys of the registrations: cell rank above, the root's place in the
-/// cell's order (cell_order_key) below (pack_key, in key_bits); the values
-/// are the leaf ids.
+/// Sort keys of the registrations: cell rank above, root triangle below
+/// (pack_key); the values are the leaf ids.
 __global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t* first, std::size_t cells,
-                                         const std::uint32_t* cell_leaves, std::size_t count,
-                                         const std::uint32_t* triangle_rank, int key_bits, std::uint64_t* keys,
-                                         std::uint32_t* ids) {
+                                         const std::uint32_t* cell_leaves, std::size_t count, int root_bits,
+                                         std::uint64_t* keys, std::uint32_t* ids) {
   const std::uint64_t r = thread_item();
   if (r >= count) return;
   const std::uint64_t c = cell_of_work_item(first, cells, r);
-  keys[r] = pack_key(c, cell_order_key(triangle_rank, leaves[cell_leaves[r]].triangle.root), key_bits);
+  keys[r] = pack_key(c, leaves[cell_leaves[r]].triangle.root, root_bits);
   ids[r] = cell_leaves[r];
 }
 
@@ -97,7 +65,7 @@ __global__ void registration_keys_kernel(const Leaf* leaves, const std::uint64_t
 /// piece (a record stored by itself lies 92, 28 or 24 bytes from its
 /// neighbours').
 __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t* ids, const std::uint64_t* keys,
-                                         int key_bits, const std::uint64_t* cell_ids, GridSpec grid,
+                                         int root_bits, const std::uint64_t* cell_ids, GridSpec grid,
                                          const FloatBox* triangle_boxes, std::size_t count, RegisteredLeaf* out,
                                          UniformTileMember* tile_members, FloatBox* tile_boxes) {
   __shared__ detail::WarpRunStage<RegisteredLeaf, detail::kBlockSize> stage;
@@ -109,7 +77,7 @@ __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t
   FloatBox box{};
   if (r < count) {
     record = registered_leaf(leaves[ids[r]]);
-    const CellCoord cell = grid_cell_coord(grid, cell_ids[keys[r] >> key_bits]);
+    const CellCoord cell = grid_cell_coord(grid, cell_ids[keys[r] >> root_bits]);
     member = {record.root, record.slot_depth, record.slot_index, local_cells(record.cells, cell)};
     box = triangle_boxes[record.root];
   }
@@ -118,20 +86,19 @@ __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t
   box_stage.write(box, r, count, tile_boxes);
 }
 
-/// The first of a cell's leaves [begin, end) (ascending by cell_order_key)
-/// whose cell_order_key is at least `key`.
-__device__ std::uint64_t first_in_order(const UniformTileMember* members, const std::uint32_t* triangle_rank,
-                                        std::uint64_t begin, std::uint64_t end, std::uint32_t key) {
+/// The first of a cell's leaves (ordered by root) whose root is at least `root`.
+__device__ std::uint64_t first_with_root(const UniformTileMember* registered, std::uint64_t begin, std::uint64_t end,
+                                         std::uint32_t root) {
   while (begin < end) {
     const std::uint64_t mid = begin + (end - begin) / 2;
-    if (cell_order_key(triangle_rank, members[mid].root) < key) begin = mid + 1; else end = mid;
+    if (registered[mid].root < root) begin = mid + 1; else end = mid;
   }
   return begin;
 }
 
-/// Tests of each uniform cell (leaves by root) whose smaller root lies in
-/// [lo, hi): rows [i0, i1) of the cell's numbering, tests[c] of them in
-/// tiles[c] tiles; tests[cells] = tiles[cells] = 0.
+/// Tests of each cell whose smaller root lies in [lo, hi): rows [i0, i1) of
+/// the cell's numbering, tests[c] of them in tiles[c] tiles; tests[cells] =
+/// tiles[cells] = 0.
 __global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells, const UniformTileMember* registered,
                                    std::uint32_t lo, std::uint32_t hi, std::uint64_t* tests, std::uint64_t* tiles,
                                    std::uint64_t* row_begin, std::uint64_t* row_end) {
@@ -142,67 +109,17 @@ __global__ void chunk_tests_kernel(const std::uint64_t* first, std::size_t cells
     return;
   }
   const std::uint64_t begin = first[c], end = first[c + 1], n = end - begin;
-  const std::uint64_t i0 = first_in_order(registered, nullptr, begin, end, lo) - begin;
-  const std::uint64_t i1 = first_in_order(registered, nullptr, begin, end, hi) - begin;
+  const std::uint64_t i0 = first_with_root(registered, begin, end, lo) - begin;
+  const std::uint64_t i1 = first_with_root(registered, begin, end, hi) - begin;
   row_begin[c] = i0;
   row_end[c] = i1;
   tests[c] = pair_count(n - i0) - pair_count(n - i1);  // the pairs (i, j), i < j, with i0 <= i < i1
   tiles[c] = pair_tile_count(n, i0, i1);
 }
 
-/// Each swept uniform cell's rows [row_begin, row_end) of a pass over the
-/// ranks [lo, hi) (its leaves whose root's rank lies there), its every pair
-/// and its blocks of leaves (grid/pair_index.hpp); pairs[cells] = blocks[cells] = 0.
-__global__ void cell_rows_kernel(const std::uint64_t* first, std::size_t cells, const UniformTileMember* members,
-                                 const std::uint32_t* triangle_rank, std::uint32_t lo, std::uint32_t hi,
-                                 std::uint64_t* row_begin, std::uint64_t* row_end, std::uint64_t* pairs,
-                                 std::uint64_t* blocks) {
-  const std::uint64_t c = thread_item();
-  if (c > cells) return;
-  if (c == cells) {
-    pairs[c] = blocks[c] = 0;
-    return;
-  }
-  const std::uint64_t begin = first[c], end = first[c + 1], n = end - begin;
-  row_begin[c] = first_in_order(members, triangle_rank, begin, end, lo) - begin;
-  row_end[c] = first_in_order(members, triangle_rank, begin, end, hi) - begin;
-  pairs[c] = pair_count(n);
-  blocks[c] = item_blocks(n);
-}
-
-/// Each block u < units of the swept uniform cells' leaves (first_block: the
-/// blocks' exclusive sum over the cells; from first_block[cells] on, none):
-/// its cell, and its tiles and the tests in them for its cell's rows of the
-/// pass (the swept cells of grid/pair_index.hpp: the rows' longest run ends
-/// at the first leaf after them whose lower y passes their largest upper y);
-/// tiles[units] = tests[units] = 0.
-__global__ void block_tiles_kernel(const std::uint64_t* first, std::size_t cells, const std::uint64_t* first_block,
-                                   const std::uint64_t* row_begin, const std::uint64_t* row_end,
-                                   const FloatBox* boxes, std::size_t units, std::uint64_t* tiles,
-                                   std::uint64_t* tests, std::uint32_t* block_cell) {
-  const std::uint64_t u = thread_item();
-  if (u > units) return;
-  tiles[u] = tests[u] = 0;
-  if (u == units || u >= first_block[cells]) return;
-  const std::uint64_t c = cell_of_work_item(first_block, cells, u);
-  const std::uint64_t a = u - first_block[c], begin = first[c], n = first[c + 1] - begin;
-  block_cell[u] = static_cast<std::uint32_t>(c);
-  const SweptRows rows = swept_rows(n, a, row_begin[c], row_end[c]);
-  if (rows.begin >= rows.end) return;
-  float high = -INFINITY;
-  for (std::uint64_t i = rows.begin; i < rows.end; ++i) high = ::fmaxf(high, sweep_high(boxes[begin + i]));
-  const FloatBox* cell_boxes = boxes + begin;
-  const std::uint64_t run_end =
-      swept_run_end([cell_boxes](std::uint64_t j) { return sweep_low(cell_boxes[j]); }, rows.end, n, high);
-  const std::uint64_t column_end = swept_column_blocks_end(run_end);
-  tiles[u] = column_end - a;
-  tests[u] = swept_rows_tests(n, rows, column_end);
-}
-
 /// Tests of each adaptive test cell: the rows of its stuck members, [0,
 /// stuck), whatever the root range (the test kernel skips the tests of other
-/// ranges): tests[c] of them in tiles[c] tiles (pair_tile_count);
-/// tests[count] = tiles[count] = 0.
+/// ranges); as chunk_tests_kernel otherwise.
 __global__ void adaptive_tests_kernel(const TestCell* cells, std::size_t count, std::uint64_t* tests,
                                       std::uint64_t* tiles, std::uint64_t* row_begin, std::uint64_t* row_end) {
   const std::uint64_t c = thread_item();
@@ -218,7 +135,7 @@ __global__ void adaptive_tests_kernel(const TestCell* cells, std::size_t count, 
   tiles[c] = pair_tile_count(n, 0, stuck);
 }
 
-/// Buckets of the histogram of kept tests over a pass's range.
+/// Buckets of the histogram of kept tests over a pass's root range.
 constexpr unsigned kHistogramBuckets = 1024;
 
 /// Consecutive tiles a block of the test kernel takes at a time: the cell of
@@ -264,32 +181,11 @@ SNAG_HD_INLINE bool slots_nested(const UniformTileMember& a, const UniformTileMe
   return ::snag::slots_nested(a.slot_depth, a.slot_index, b.slot_depth, b.slot_index);
 }
 
-/// A tile of the test kernel: its cell and its rows and columns there, and
-/// whether no test of it lies in the pass's range.
-struct TileAt {
-  std::uint64_t cell;
-  PairTile tile;
-  bool skipped;
-};
-
-/// Tile t of cells numbered cell by cell (first_tile, over `count` cells),
-/// each cell's rows [row_begin, row_end) (grid/pair_index.hpp), whose cell
-/// is found from cell `unit` (an earlier tile's) on (cell_of_work_item_from;
-/// `unit` becomes t's); `size` gives a cell's members.
-template <class Size>
-__device__ PairTile numbered_cell_tile(const std::uint64_t* first_tile, std::uint64_t count,
-                                       const std::uint64_t* row_begin, const std::uint64_t* row_end, const Size& size,
-                                       std::uint64_t t, std::uint64_t& unit) {
-  unit = cell_of_work_item_from(first_tile, count, unit, t);
-  return pair_tile(size(unit), row_begin[unit], row_end[unit], t - first_tile[unit]);
-}
-
 /// The uniform grid's cells as the tile kernel reads them: members are the
 /// registered leaves, the VSS control bits decide which cell tests a pair
 /// (by the leaves' masks around the cell, or by their LeafCells where a
-/// block is wide), and the roots' DOPs alone decide what is kept. How a
-/// pass's tiles are found is UniformTileCells' or SweptTileCells'.
-struct UniformCells {
+/// block is wide), and the roots' DOPs alone decide what is kept.
+struct UniformTileCells {
   using Member = RegisteredLeaf;
   using TileMember = UniformTileMember;
   struct Cell {
@@ -301,9 +197,6 @@ struct UniformCells {
   const UniformTileMember* tile_members;  ///< members[r] in its cell
   const FloatBox* tile_boxes;             ///< members[r]'s root's float box
   GridSpec grid;
-  const std::uint64_t* first_tile;  ///< the units' tiles' exclusive sum
-  const std::uint64_t* row_begin;   ///< a cell's rows [begin, end) in the pass
-  const std::uint64_t* row_end;
 
   __device__ std::uint64_t begin(std::uint64_t c) const { return first[c]; }
   __device__ std::uint64_t size(std::uint64_t c) const { return first[c + 1] - first[c]; }
@@ -324,55 +217,11 @@ struct UniformCells {
     return cell_pair_verdict(a.cells, b.cells);
   }
   __device__ bool leaves_overlap(const TileMember&, const TileMember&) const { return true; }
-  /// A pass's rows hold only its tests: their order keys lie in its range.
+  /// A pass's rows hold only its tests (chunk_tests_kernel): a cell's
+  /// members ascend by root, so a row's root is the smaller of each of its
+  /// tests' and lies in the pass's range.
   static constexpr bool kRowsInRange = true;
-};
-
-/// Uniform cells whose leaves ascend by root: a pass's rows are those of its
-/// root range, numbered cell by cell (chunk_tests_kernel); a test's chunk
-/// key is its smaller root.
-struct UniformTileCells : UniformCells {
-  std::uint64_t count;  ///< cells
-
-  __device__ std::uint64_t tile_count() const { return first_tile[count]; }
-  /// Tile t, whose cell is found from cell `unit` (an earlier tile's) on.
-  __device__ TileAt locate(std::uint64_t t, std::uint64_t& unit, std::uint32_t, std::uint32_t) const {
-    const PairTile tile = numbered_cell_tile(
-        first_tile, count, row_begin, row_end, [this](std::uint64_t c) { return size(c); }, t, unit);
-    return {unit, tile, false};
-  }
-  __device__ std::uint32_t chunk_key(Index low, Index) const { return low; }
-  static constexpr bool kSwept = false;
-};
-
-/// Uniform cells swept along y (grid/pair_index.hpp): each cell's leaves
-/// ascend by their root's rank in the sweep order (so by its float box's
-/// lower y), cut into blocks whose tiles block_tiles_kernel numbers for a
-/// pass's rows, those of its rank range; a test's chunk key is the rank of
-/// its earlier root.
-struct SweptTileCells : UniformCells {
-  const std::uint64_t* first_block;  ///< the cells' blocks' exclusive sum
-  const std::uint32_t* block_cell;
-  std::uint64_t units;  ///< the blocks numbered (some past the last may have no tile)
-  const std::uint32_t* triangle_rank;
-
-  __device__ std::uint64_t tile_count() const { return first_tile[units]; }
-  /// Tile t, whose block is found from block `unit` (an earlier tile's) on
-  /// (cell_of_work_item_from; `unit` becomes t's): the block's rows of the
-  /// pass against its cell's column block b.
-  __device__ TileAt locate(std::uint64_t t, std::uint64_t& unit, std::uint32_t, std::uint32_t) const {
-    unit = cell_of_work_item_from(first_tile, units, unit, t);
-    const std::uint64_t c = block_cell[unit], a = unit - first_block[c], b = a + (t - first_tile[unit]);
-    const std::uint64_t n = size(c);
-    return {c, swept_tile(n, swept_rows(n, a, row_begin[c], row_end[c]), b), false};
-  }
-  /// Where a test of roots low < high lies in the chunk order: the rank of
-  /// the earlier of the two in the sweep order.
-  __device__ std::uint32_t chunk_key(Index low, Index high) const {
-    return ::min(triangle_rank[low], triangle_rank[high]);
-  }
-  /// Each cell's members ascend by their root's lower y.
-  static constexpr bool kSwept = true;
+  __device__ bool tile_may_hold(std::uint64_t, const PairTile&, std::uint32_t, std::uint32_t) const { return true; }
 };
 
 /// The adaptive grid's test cells (grid/adaptive_cells.hpp): a pair is tested
@@ -389,19 +238,6 @@ struct AdaptiveTileCells {
   const AdaptiveMember* members;
   const Dop18* leaf_dops;
   int depth;
-  const std::uint64_t* first_tile;  ///< the cells' tiles' exclusive sum
-  const std::uint64_t* row_begin;   ///< a cell's rows [begin, end)
-  const std::uint64_t* row_end;
-  std::uint64_t count;  ///< cells
-
-  __device__ std::uint64_t tile_count() const { return first_tile[count]; }
-  /// Tile t, whose cell is found from cell `unit` (an earlier tile's) on,
-  /// skipped where tile_may_hold says so.
-  __device__ TileAt locate(std::uint64_t t, std::uint64_t& unit, std::uint32_t lo, std::uint32_t hi) const {
-    const PairTile tile = numbered_cell_tile(
-        first_tile, count, row_begin, row_end, [this](std::uint64_t c) { return size(c); }, t, unit);
-    return {unit, tile, !tile_may_hold(unit, tile, lo, hi)};
-  }
 
   __device__ std::uint64_t begin(std::uint64_t c) const { return cells[c].first; }
   __device__ std::uint64_t size(std::uint64_t c) const { return cells[c].count; }
@@ -422,12 +258,8 @@ struct AdaptiveTileCells {
   __device__ bool leaves_overlap(const Member& a, const Member& b) const {
     return leaf_boxes_may_overlap(a, b) && dop_overlap(leaf_dops[a.leaf], leaf_dops[b.leaf]);
   }
-  /// Members ascend by root (stuck ones, then pushed ones), not by lower y.
-  static constexpr bool kSwept = false;
   /// Stuck members' rows meet pushed members of any root.
   static constexpr bool kRowsInRange = false;
-  /// Where a test of roots low < high lies in the chunk order: its smaller root.
-  __device__ std::uint32_t chunk_key(Index low, Index) const { return low; }
   /// False when no test of the tile of cell c has its smaller root in [lo,
   /// hi). A cell's stuck and pushed members each ascend by root, so the rows
   /// (stuck) and the columns (one run or two) span known roots, and the
@@ -465,32 +297,31 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
   source.load_boxes(begin, count, triangle_boxes, side.boxes);
 }
 
-/// The tests of a chunk, tile by tile (Cells::tile_count() of them, read on
-/// the device): each block strides over runs of kTileRun tiles
-/// (grid/pair_index.hpp), finds a tile (Cells::locate) by a galloping search
-/// from its last one (the block's tiles ascend), reads the tile's rows (unless its
+/// The tests of a chunk, tile by tile (first_tile[cells] of them, read on the
+/// device): each block strides over runs of kTileRun tiles
+/// (grid/pair_index.hpp), finds a tile's cell by a galloping search from its
+/// last one (the block's tiles ascend), reads the tile's rows (unless its
 /// last tile had the same) and columns and their roots' float boxes into
 /// shared memory (the uniform grid's as order_registrations_on_device laid
 /// them out, in cell order: test_kernel on cloth_ball ×4 2.27 -> 2.05 ms,
 /// ×16 22.7 -> 20.9 ms a step, H200), and its threads run the
-/// tile's tests (a large tile a row a thread, up to the row's run's end in a
-/// swept cell, Cells::kSwept; a small one in rounds of a test a thread), with
-/// the CPU's filters in the CPU's order
+/// tile's tests (a large tile a row a thread, a small one in rounds of a test
+/// a thread), with the CPU's filters in the CPU's order
 /// (broad_phase/virtual_subdivision_grid.cpp): the roots' float boxes first,
 /// then same root, time slots and the cell's rule (Cells: UniformTileCells,
 /// AdaptiveTileCells), then the roots' DOPs (the boxes' and the DOPs' test
 /// give the DOPs' answer together, see float_box.hpp). Only the tests whose
-/// chunk key (Cells::chunk_key) lies in [range_first, range_end) run, and a
-/// tile that Cells::locate rules out is skipped whole. A round's tests whose boxes meet
-/// (8 to 17% on cloth_ball and its refinements) wait in their warp's list of
-/// the tile's (row, column) until
+/// smaller root lies in [range_first, range_end) run (the uniform cells' rows
+/// hold no other), and a tile that Cells::tile_may_hold rules out is skipped
+/// whole. A round's tests whose boxes meet (8 to 17% on cloth_ball and its
+/// refinements) wait in their warp's list of the tile's (row, column) until
 /// it holds 32, whose rules the warp then runs with all its lanes (the last
 /// ones at the tile's end): run in the round, they took the warp's time in nearly every
 /// round (test_kernel on cloth_ball ×4: 4.09 -> 2.93 ms, 2.91e9 -> 1.97e9
 /// instructions, H200). The tests they pass wait in a second list until it
 /// holds 32, whose roots' DOPs the warp then tests with all its lanes
 /// (across tiles; the last ones at the end). Each kept
-/// test adds one to its chunk key's bucket of the histogram over the range
+/// test adds one to its smaller root's bucket of the histogram over the range
 /// (in shared memory, added to `histogram` once per block). Counters are summed
 /// in registers and added with one atomic per warp at the end; kept root pairs
 /// are written 32 at a time with one atomic (with count_culled, culled ones
@@ -498,19 +329,20 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// round of a tile, so warp-wide operations see full warps.
 template <class Cells>
 __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
-    test_kernel(Cells source, const Dop18* triangle_dops, const FloatBox* triangle_boxes,
+    test_kernel(const std::uint64_t* first_tile, std::size_t cells, const std::uint64_t* row_begin,
+                const std::uint64_t* row_end, Cells source, const Dop18* triangle_dops, const FloatBox* triangle_boxes,
                 std::uint32_t range_first, std::uint32_t range_end, std::uint32_t bucket_width, int key_bits,
                 unsigned* histogram, std::uint64_t* kept, std::uint64_t kept_capacity, bool count_culled,
                 std::uint64_t* culled, std::uint64_t culled_capacity, unsigned long long* counters) {
   using Member = typename Cells::TileMember;
   using Cell = typename Cells::Cell;
   using Side = TileSide<Cells>;
-  const std::uint64_t tiles = source.tile_count();
+  const std::uint64_t tiles = first_tile[cells];
   __shared__ unsigned block_histogram[kHistogramBuckets];
   // Raw storage: shared variables take no initializers, and the records have them.
   __shared__ alignas(alignof(Side)) unsigned char side_storage[2 * sizeof(Side)];
   __shared__ alignas(alignof(Cell)) unsigned char cell_storage[sizeof(Cell)];
-  __shared__ std::uint64_t tile_unit, tile_cell, tile_rows[2], tile_columns[2];  // [begin, end) of each
+  __shared__ std::uint64_t tile_cell, tile_rows[2], tile_columns[2];  // [begin, end) of each
   // The members the rows hold, [begin, end) in the source: a run's tiles
   // share their row tile but at its end, and read it once.
   __shared__ std::uint64_t held_rows[2];
@@ -520,10 +352,10 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
   Cell& tile_cell_info = *reinterpret_cast<Cell*>(cell_storage);
   for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
   if (threadIdx.x == 0) {
-    tile_unit = 0;
+    tile_cell = 0;
     held_rows[0] = held_rows[1] = ~std::uint64_t{0};
   }
-  unsigned same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0,
+  unsigned boxes_apart = 0, same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0,
            culls = 0;
   // Each warp's tests of the tile whose boxes meet, still to be decided (as
   // row << 6 | column), its keys whose roots' DOPs are still to be tested,
@@ -564,7 +396,7 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
       unpack_key(key, key_bits, low, high);
       if (dop_overlap(triangle_dops[low], triangle_dops[high])) {
         keep = true;
-        atomicAdd(&block_histogram[(source.chunk_key(low, high) - range_first) / bucket_width], 1u);
+        atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
       } else {
         cull = true;
       }
@@ -578,18 +410,15 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
        t = (t + 1) % kTileRun == 0 ? t + 1 + (gridDim.x - 1) * kTileRun : t + 1) {
     __syncthreads();  // the last tile's shared data is read by all
     if (threadIdx.x == 0) {
-      std::uint64_t unit = tile_unit;
-      const TileAt at = source.locate(t, unit, range_first, range_end);
-      const std::uint64_t c = at.cell;
-      const PairTile& tile = at.tile;
-      tile_unit = unit;
+      const std::uint64_t c = cell_of_work_item_from(first_tile, cells, tile_cell, t);
       tile_cell = c;
       tile_cell_info = source.cell(c);
+      const PairTile tile = pair_tile(source.size(c), row_begin[c], row_end[c], t - first_tile[c]);
       tile_rows[0] = tile.row_begin;
       tile_rows[1] = tile.row_end;
       tile_columns[0] = tile.column_begin;
       tile_columns[1] = tile.column_end;
-      tile_skipped = at.skipped;
+      tile_skipped = !source.tile_may_hold(c, tile, range_first, range_end);
       const std::uint64_t rows_first = source.begin(c) + tile.row_begin, rows_end = source.begin(c) + tile.row_end;
       rows_held = held_rows[0] == rows_first && held_rows[1] == rows_end;
       if (!tile_skipped) {
@@ -653,15 +482,16 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
       record_cull(cull, key);
     };
     // The first filter of the test of a row (root ra, float box `box`)
-    // against `column`: whether it is this pass's test (its chunk key in the
-    // range, as in every test of rows in range) and the roots' float boxes meet.
+    // against `column`: whether it is this pass's test (its smaller root in
+    // the range, as in every test of the uniform cells' rows) and the roots'
+    // float boxes meet. The tests whose boxes are apart are counted.
     auto boxes_meet = [&](Index ra, const FloatBox& box, unsigned column) {
-      if (!Cells::kRowsInRange) {
-        const Index rb = columns.members[column].root;
-        const std::uint32_t key = source.chunk_key(ra < rb ? ra : rb, ra < rb ? rb : ra);
-        if (key < range_first || key >= range_end) return false;  // another chunk's test
-      }
-      return float_boxes_may_overlap(box, columns.boxes[column]);
+      const Index rb = columns.members[column].root;
+      const Index low = ra < rb ? ra : rb;
+      if (!Cells::kRowsInRange && (low < range_first || low >= range_end)) return false;  // another chunk's test
+      const bool meet = float_boxes_may_overlap(box, columns.boxes[column]);
+      boxes_apart += meet ? 0 : 1;
+      return meet;
     };
     // One test of the tile; every thread of the block calls it once per
     // round, with `valid` set where it has a test.
@@ -694,18 +524,9 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
         const bool has_row = row < row_count;
         const Index ra = rows.members[has_row ? row : 0].root;
         const FloatBox box = rows.boxes[has_row ? row : 0];
-        // Swept cells' columns ascend by lower y: a row's tests end at the
-        // first column whose lower y passes its upper y (those from it on are
-        // apart in y), and the warp's at the last of its rows' ends.
-        unsigned lane_end = column_end, warp_end = column_end;
-        if (Cells::kSwept) {
-          auto low = [&](std::uint64_t j) { return sweep_low(columns.boxes[j]); };
-          lane_end = static_cast<unsigned>(swept_run_end(low, column_begin, column_end, sweep_high(box)));
-          warp_end = __reduce_max_sync(0xffffffffu, has_row ? lane_end : 0u);
-        }
         // Below the warp's first row's first column no lane has a test.
-        for (unsigned column = ::max(column_begin, diagonal ? after + warp_row : 0u); column < warp_end; ++column) {
-          if (has_row && column >= lane_first && column < lane_end)
+        for (unsigned column = ::max(column_begin, diagonal ? after + warp_row : 0u); column < column_end; ++column) {
+          if (has_row && column >= lane_first)
             meets |= static_cast<std::uint32_t>(boxes_meet(ra, box, column)) << (column - column_begin);
         }
       }
@@ -753,6 +574,7 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
   }
   if (waiting_count > 0) test_waiting(waiting_count);
   if (keeping_count > 0) write_kept(keeping_count);
+  detail::warp_count(boxes_apart, &counters[kBoxesApart]);
   detail::warp_count(same_root, &counters[kSameRoot]);
   detail::warp_count(time_slots, &counters[kTimeSlots]);
   detail::warp_count(control_bits, &counters[kControlBits]);
@@ -811,8 +633,8 @@ std::vector<RootRange> split_range(RootRange range, const std::vector<unsigned>&
     const std::uint64_t count = histogram[k];
     if (count > key_room) {
       if (bucket_width == 1)
-        throw UsageError("the device memory limit is too small for this scene: one triangle alone has " +
-                         std::to_string(count) + " pair tests to keep, a chunk of the limit holds " +
+        throw UsageError("the device memory limit is too small for this scene: triangle " + std::to_string(lo) +
+                         " alone has " + std::to_string(count) + " pair tests to keep, a chunk of the limit holds " +
                          std::to_string(key_room) + "; raise the limit (snag-scan --device-memory)");
       if (start < lo) parts.push_back({start, lo});
       parts.push_back({lo, hi});
@@ -831,120 +653,84 @@ std::vector<RootRange> split_range(RootRange range, const std::vector<unsigned>&
   return parts;
 }
 
-/// Each triangle's rank in the sweep order, into p.triangle_rank (a stable
-/// sort of its float box's lower y: ties by id).
-void rank_triangles(const FloatBox* triangle_boxes, std::size_t triangle_count, DevicePairs& p, cudaStream_t stream,
-                    const GrowthCheck& check) {
-  p.triangle_rank.resize(triangle_count);
-  p.rank_keys.resize(triangle_count);
-  p.rank_keys_spare.resize(triangle_count);
-  p.rank_ids.resize(triangle_count);
-  p.rank_ids_spare.resize(triangle_count);
-  rank_keys_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(
-      triangle_boxes, triangle_count, p.rank_keys.data(), p.rank_ids.data());
-  SNAG_CUDA_CHECK_LAUNCH();
-  cub::DoubleBuffer<std::uint32_t> rank_keys(p.rank_keys.data(), p.rank_keys_spare.data());
-  cub::DoubleBuffer<std::uint32_t> rank_ids(p.rank_ids.data(), p.rank_ids_spare.data());
-  radix_sort_pairs(rank_keys, rank_ids, triangle_count, 32, p.temp, stream, check);
-  rank_scatter_kernel<<<blocks_for(triangle_count), detail::kBlockSize, 0, stream>>>(
-      rank_ids.Current(), triangle_count, p.triangle_rank.data());
-  SNAG_CUDA_CHECK_LAUNCH();
-}
-
 }  // namespace
 
 void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
-                                   const DeviceCellLists& lists, const GridSpec& grid, bool swept, DevicePairs& p,
+                                   const DeviceCellLists& lists, const GridSpec& grid, DevicePairs& p,
                                    cudaStream_t stream, const GrowthCheck& check) {
   const std::size_t cells = lists.cells;
   const std::size_t registrations = lists.leaves.size();
-  check_id_range(triangle_count, cells);
-  const std::size_t ranked = swept ? triangle_count : 0;
   check_growth(check, p.registered.growth_bytes(registrations) + p.tile_members.growth_bytes(registrations) +
                           p.tile_boxes.growth_bytes(registrations) + p.order_keys.growth_bytes(registrations) +
                           p.order_keys_spare.growth_bytes(registrations) + p.order_ids.growth_bytes(registrations) +
-                          p.order_ids_spare.growth_bytes(registrations) + p.triangle_rank.growth_bytes(ranked) +
-                          p.rank_keys.growth_bytes(ranked) + p.rank_keys_spare.growth_bytes(ranked) +
-                          p.rank_ids.growth_bytes(ranked) + p.rank_ids_spare.growth_bytes(ranked));
+                          p.order_ids_spare.growth_bytes(registrations));
   p.registered.resize(registrations);
   p.tile_members.resize(registrations);
   p.tile_boxes.resize(registrations);
   if (registrations == 0) return;
-  if (swept) rank_triangles(triangle_boxes, triangle_count, p, stream, check);
-  const int key_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0);
-  // The registrations by cell, then by their root (swept: its rank).
   p.order_keys.resize(registrations);
   p.order_keys_spare.resize(registrations);
   p.order_ids.resize(registrations);
   p.order_ids_spare.resize(registrations);
+  const int root_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0);
   registration_keys_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-      leaves, lists.first.data(), cells, lists.leaves.data(), registrations, swept ? p.triangle_rank.data() : nullptr,
-      key_bits, p.order_keys.data(), p.order_ids.data());
+      leaves, lists.first.data(), cells, lists.leaves.data(), registrations, root_bits, p.order_keys.data(),
+      p.order_ids.data());
   SNAG_CUDA_CHECK_LAUNCH();
   cub::DoubleBuffer<std::uint64_t> keys(p.order_keys.data(), p.order_keys_spare.data());
   cub::DoubleBuffer<std::uint32_t> ids(p.order_ids.data(), p.order_ids_spare.data());
-  radix_sort_pairs(keys, ids, registrations, key_bits + radix_bits(cells > 0 ? cells - 1 : 0), p.temp, stream,
-                   check);
+  radix_sort_pairs(keys, ids, registrations, root_bits + radix_bits(cells > 0 ? cells - 1 : 0), p.temp, stream, check);
   gather_registered_kernel<<<blocks_for(registrations), detail::kBlockSize, 0, stream>>>(
-      leaves, ids.Current(), keys.Current(), key_bits, lists.cell_ids.data(), grid, triangle_boxes, registrations,
+      leaves, ids.Current(), keys.Current(), root_bits, lists.cell_ids.data(), grid, triangle_boxes, registrations,
       p.registered.data(), p.tile_members.data(), p.tile_boxes.data());
   SNAG_CUDA_CHECK_LAUNCH();
 }
 
 namespace {
 
-/// Sum of values[0, count) into *total, on the stream.
-void device_sum(const std::uint64_t* values, std::size_t count, std::uint64_t* total, DevicePairs& p,
-                cudaStream_t stream) {
-  std::size_t bytes = 0;
-  SNAG_CUDA_CHECK(cub::DeviceReduce::Sum(nullptr, bytes, values, total, count, stream));
-  ensure_scratch(p.temp, bytes);
-  bytes = p.temp.size();
-  SNAG_CUDA_CHECK(cub::DeviceReduce::Sum(p.temp.data(), bytes, values, total, count, stream));
-}
-
-/// The pair tests of `source` (UniformTileCells, AdaptiveTileCells), whose
-/// tiles are numbered by `units` units (a uniform cell's blocks, an adaptive
-/// cell), pass by pass over ranges of the chunk order (PairChunkPlan).
-/// number_units(range) fills p.cell_tests and p.cell_tiles for a pass over
-/// `range` (units + 1 each, the last 0: each unit's tests in tiles and
-/// tiles) and, for `pair_cells` > 0 cells, p.cell_pairs (pair_cells + 1):
-/// their every pair, tested in a tile or not (else every pair lies in a
-/// tile). As enumerate_pairs_on_device otherwise.
-template <class Cells, class NumberUnits>
-void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cells, const NumberUnits& number_units,
-                    const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::size_t triangle_count,
-                    bool count_culled, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
-                    BroadPhaseStats& stats, const std::function<void(const TrianglePair*, std::size_t)>& visit) {
+/// The pair tests of `cells` cells of `source` (UniformTileCells,
+/// AdaptiveTileCells), pass by pass over root ranges (PairChunkPlan);
+/// number_rows(range) fills the cells' tests, tiles and rows for a range.
+/// As enumerate_pairs_on_device otherwise.
+template <class Cells, class NumberRows>
+void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& number_rows, const Dop18* triangle_dops,
+                    const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled, PairChunkPlan& plan,
+                    DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
+                    const std::function<void(const TrianglePair*, std::size_t)>& visit) {
+  if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
+    throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
   const auto triangle_end = static_cast<std::uint32_t>(triangle_count);
   p.counters.resize(kCounters + 1);
   p.histogram.resize(kHistogramBuckets);
-  p.test_total.resize(2);
+  p.cell_tests.resize(cells + 1);
+  p.test_total.resize(1);
+  p.cell_tiles.resize(cells + 1);
+  p.first_tile.resize(cells + 1);
+  p.row_begin.resize(cells + 1);
+  p.row_end.resize(cells + 1);
 
-  // The tests in tiles and the tiles of a range, numbered unit by unit
-  // (first_tile), and every pair of the cells.
+  // The tests and tiles of the cells whose smaller root lies in `range`:
+  // the tiles numbered cell by cell (first_tile), the tests summed; returns
+  // their counts.
   struct Numbered {
-    std::uint64_t tests = 0, tiles = 0, pairs = 0;
-    bool known = false;  ///< read back (else only on the device, in test_total and first_tile[units])
-  };
-  // Counts from test_total's sums (the second only for pair_cells) and the tiles read back.
-  const std::size_t sums_read = pair_cells > 0 ? 2 : 1;
-  auto take_sums = [&](const std::uint64_t (&sums)[2], Numbered& counts) {
-    counts.tests = sums[0];
-    counts.pairs = pair_cells > 0 ? sums[1] : sums[0];
-    counts.known = true;
+    std::uint64_t tests = 0, tiles = 0;
+    bool known = false;  ///< read back (else only on the device, in test_total and first_tile[cells])
   };
   // `read`: wait for the counts; else they are read with the first pass's counters.
   auto number_tests = [&](RootRange range, bool read) {
-    number_units(range);
-    device_sum(p.cell_tests.data(), units + 1, p.test_total.data(), p, stream);
-    if (pair_cells > 0) device_sum(p.cell_pairs.data(), pair_cells + 1, p.test_total.data() + 1, p, stream);
-    exclusive_sum(p.cell_tiles.data(), p.first_tile.data(), units + 1, p.temp, stream);
+    number_rows(range);
+    std::size_t bytes = 0;
+    SNAG_CUDA_CHECK(
+        cub::DeviceReduce::Sum(nullptr, bytes, p.cell_tests.data(), p.test_total.data(), cells + 1, stream));
+    ensure_scratch(p.temp, bytes);
+    bytes = p.temp.size();
+    SNAG_CUDA_CHECK(
+        cub::DeviceReduce::Sum(p.temp.data(), bytes, p.cell_tests.data(), p.test_total.data(), cells + 1, stream));
+    exclusive_sum(p.cell_tiles.data(), p.first_tile.data(), cells + 1, p.temp, stream);
     Numbered counts;
     if (!read) return counts;
-    std::uint64_t sums[2] = {};
-    ReadBack(stream).add(sums, p.test_total.data(), sums_read).add(&counts.tiles, p.first_tile.data() + units).wait();
-    take_sums(sums, counts);
+    ReadBack(stream).add(&counts.tests, p.test_total.data()).add(&counts.tiles, p.first_tile.data() + cells).wait();
+    counts.known = true;
     return counts;
   };
 
@@ -999,39 +785,39 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
       range_counts = number_tests(range, true);
       numbered_range = range;
     }
+    const std::uint64_t range_tests = range_counts.tests;
     // Room: for the whole set what the last pass needed, at least a share of
     // the tests; for a planned or split range all of key_room (it was sized
     // to hold it); never more than key_room or the range's tests (when known).
-    const std::uint64_t tests = range_counts.tests;
     const bool whole = range.first == 0 && range.end == triangle_end;
     const std::size_t kept_room =
         !range_counts.known
             ? p.kept.capacity()
             : std::min<std::uint64_t>(
-                  {key_room, std::max<std::uint64_t>(tests, 1),
-                   whole ? std::max<std::uint64_t>(p.kept.capacity(), std::min<std::uint64_t>(tests, 1 << 20))
+                  {key_room, std::max<std::uint64_t>(range_tests, 1),
+                   whole ? std::max<std::uint64_t>(p.kept.capacity(), std::min<std::uint64_t>(range_tests, 1 << 20))
                          : key_room});
     p.kept.resize(kept_room);
     p.culled.resize(culled_room);
     p.counters.fill_zero();
     p.histogram.fill_zero();
     unsigned long long counts[kCounters] = {};
-    if (tests > 0 || !range_counts.known) {
+    if (range_tests > 0 || !range_counts.known) {
       const std::uint64_t blocks =
           range_counts.known ? std::min<std::uint64_t>((range_counts.tiles + kTileRun - 1) / kTileRun, resident_blocks)
                              : resident_blocks;
       test_kernel<Cells><<<static_cast<unsigned>(blocks), kTestBlock, 0, stream>>>(
-          source, triangle_dops, triangle_boxes, range.first, range.end, bucket_width, key_bits, p.histogram.data(),
-          p.kept.data(), kept_room, count_culled, p.culled.data(), culled_room, p.counters.data());
+          p.first_tile.data(), cells, p.row_begin.data(), p.row_end.data(), source, triangle_dops, triangle_boxes,
+          range.first, range.end, bucket_width, key_bits, p.histogram.data(), p.kept.data(), kept_room, count_culled,
+          p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();
       ReadBack read(stream);
       read.add(counts, p.counters.data(), kCounters).add(histogram.data(), p.histogram.data(), kHistogramBuckets);
-      std::uint64_t sums[2] = {};
       if (!range_counts.known)
-        read.add(sums, p.test_total.data(), sums_read).add(&range_counts.tiles, p.first_tile.data() + units);
+        read.add(&range_counts.tests, p.test_total.data()).add(&range_counts.tiles, p.first_tile.data() + cells);
       read.wait();
       if (!range_counts.known) {
-        take_sums(sums, range_counts);
+        range_counts.known = true;
         whole_set = range_counts;
         check_rounds(whole_set);
       }
@@ -1079,10 +865,8 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
     plan.ranges.push_back(range);
     visit(p.pairs.data(), kept_unique);
   }
-  stats.tests = whole_set.pairs;
-  // Every pair no later filter counted: its boxes are apart (in y, untested, or tested).
-  stats.culled_by_boxes = whole_set.pairs - (totals[kSameRoot] + totals[kTimeSlots] + totals[kControlBits] +
-                                             totals[kExtended] + totals[kPassed]);
+  stats.tests = whole_set.tests;
+  stats.culled_by_boxes = totals[kBoxesApart];
   stats.same_root_tests = totals[kSameRoot];
   stats.removed_by_time_slots = totals[kTimeSlots];
   stats.removed_by_control_bits = totals[kControlBits];
@@ -1096,68 +880,23 @@ void run_pair_tests(const Cells& source, std::size_t units, std::size_t pair_cel
   stats.seconds_pairs = seconds;
 }
 
-/// Blocks of kPairTileSide leaves numbered for `cells` uniform cells of
-/// `registrations` leaves: at most one a cell more than registrations / side
-/// (those from first_block[cells] on have no tile).
-std::size_t uniform_blocks_bound(std::size_t cells, std::size_t registrations) {
-  return cells + registrations / kPairTileSide + 1;
-}
-
 }  // namespace
 
-std::size_t uniform_numbering_bytes(std::size_t cells, std::size_t registrations) {
-  const std::size_t blocks = uniform_blocks_bound(cells, registrations);
-  return (cells + 1) * 5 * sizeof(std::uint64_t) + (blocks + 1) * (3 * sizeof(std::uint64_t) + sizeof(std::uint32_t));
-}
-
-void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, bool swept,
-                               const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::size_t triangle_count,
-                               bool count_culled, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
-                               BroadPhaseStats& stats,
+void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
+                               const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
+                               PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit) {
   const std::size_t cells = lists.cells;
-  check_id_range(triangle_count, cells);
-  // The units the tiles are numbered by: cells, or swept, blocks of leaves
-  // (lists.leaves may have been given back: p.registered holds the registrations).
-  const std::size_t units = swept ? uniform_blocks_bound(cells, p.registered.size()) : cells;
-  p.row_begin.resize(cells + 1);
-  p.row_end.resize(cells + 1);
-  p.cell_tests.resize(units + 1);
-  p.cell_tiles.resize(units + 1);
-  p.first_tile.resize(units + 1);
-  const UniformCells base{lists.first.data(),  lists.cell_ids.data(), p.registered.data(),
-                          p.tile_members.data(), p.tile_boxes.data(),  grid,
-                          p.first_tile.data(),   p.row_begin.data(),   p.row_end.data()};
-  if (!swept) {
-    const UniformTileCells source{base, cells};
-    auto number_units = [&](RootRange range) {
-      chunk_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
-          lists.first.data(), cells, p.tile_members.data(), range.first, range.end, p.cell_tests.data(),
-          p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
-      SNAG_CUDA_CHECK_LAUNCH();
-    };
-    run_pair_tests(source, cells, 0, number_units, triangle_dops, triangle_boxes, triangle_count, count_culled, plan,
-                   p, stream, stats, visit);
-    return;
-  }
-  p.cell_pairs.resize(cells + 1);
-  p.cell_blocks.resize(cells + 1);
-  p.first_block.resize(cells + 1);
-  p.block_cell.resize(units);
-  const SweptTileCells source{base, p.first_block.data(), p.block_cell.data(), units, p.triangle_rank.data()};
-  auto number_units = [&](RootRange range) {
-    cell_rows_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
-        lists.first.data(), cells, p.tile_members.data(), p.triangle_rank.data(), range.first, range.end,
-        p.row_begin.data(), p.row_end.data(), p.cell_pairs.data(), p.cell_blocks.data());
-    SNAG_CUDA_CHECK_LAUNCH();
-    exclusive_sum(p.cell_blocks.data(), p.first_block.data(), cells + 1, p.temp, stream);
-    block_tiles_kernel<<<blocks_for(units + 1), detail::kBlockSize, 0, stream>>>(
-        lists.first.data(), cells, p.first_block.data(), p.row_begin.data(), p.row_end.data(), p.tile_boxes.data(),
-        units, p.cell_tiles.data(), p.cell_tests.data(), p.block_cell.data());
+  const UniformTileCells source{lists.first.data(), lists.cell_ids.data(), p.registered.data(),
+                                p.tile_members.data(), p.tile_boxes.data(), grid};
+  auto number_rows = [&](RootRange range) {
+    chunk_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
+        lists.first.data(), cells, p.tile_members.data(), range.first, range.end, p.cell_tests.data(),
+        p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
   };
-  run_pair_tests(source, units, cells, number_units, triangle_dops, triangle_boxes, triangle_count, count_culled,
-                 plan, p, stream, stats, visit);
+  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, plan, p,
+                 stream, stats, visit);
 }
 
 void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const Dop18* triangle_dops,
@@ -1166,21 +905,14 @@ void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const D
                                         BroadPhaseStats& stats,
                                         const std::function<void(const TrianglePair*, std::size_t)>& visit) {
   const std::size_t cells = tree.cell_count;
-  check_id_range(triangle_count, cells);
-  p.cell_tests.resize(cells + 1);
-  p.cell_tiles.resize(cells + 1);
-  p.first_tile.resize(cells + 1);
-  p.row_begin.resize(cells + 1);
-  p.row_end.resize(cells + 1);
-  const AdaptiveTileCells source{tree.cells.data(), tree.members.data(), tree.leaf_dops.data(), tree.depth,
-                                 p.first_tile.data(), p.row_begin.data(), p.row_end.data(), cells};
-  auto number_units = [&](RootRange) {
+  const AdaptiveTileCells source{tree.cells.data(), tree.members.data(), tree.leaf_dops.data(), tree.depth};
+  auto number_rows = [&](RootRange) {
     adaptive_tests_kernel<<<blocks_for(cells + 1), detail::kBlockSize, 0, stream>>>(
         tree.cells.data(), cells, p.cell_tests.data(), p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
   };
-  run_pair_tests(source, cells, 0, number_units, triangle_dops, triangle_boxes, triangle_count, count_culled, plan,
-                 p, stream, stats, visit);
+  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, plan, p,
+                 stream, stats, visit);
 }
 
 }  // namespace snag

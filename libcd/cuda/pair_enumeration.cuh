@@ -1,23 +1,15 @@
 // The candidate tests on the GPU, mirroring step 5-6 of
-// libcd/broad_phase/virtual_subdivision_grid.cpp: each uniform cell's tests
-// are cut into square tiles (grid/pair_index.hpp), each cell's count prefix
-// summed. Swept cells are the CPU grid's: a cell's leaves are ordered by the
-// lower y of their root's float box (the sweep order of the roots, ties by
-// triangle: each root's rank in it), and a leaf is tested only against those
-// after it up to the first whose lower y passes its upper y (the cell's other
-// pairs are apart in y: culled by their boxes untested, as on the CPU); a
-// block of 64 leaves meets the blocks from its own to the last its rows' runs
-// reach, each block's tiles counted. Otherwise a cell's leaves are ordered by
-// root and every pair is tested. A block of threads finds its tile from the
-// sums, reads the tile's two runs of leaves (from a copy of them in cell
-// order, coalesced) and their roots' float boxes into shared memory once, and
-// its threads run the tile's tests from there with the same filters as the
-// CPU (same root, time slots, control bits and extended control bits, root
-// 18-DOPs), appending the root pairs; a device sort + unique gives the exact
-// set of triangle pairs, ordered as the CPU's. The adaptive grid's test cells
-// (adaptive_cells.cuh) run through the same tiles (every pair of a cell's
-// stuck members' rows), with the CPU adaptive grid's rule (the cell that owns
-// a pair tests it; leaf and root DOPs).
+// libcd/broad_phase/virtual_subdivision_grid.cpp: each cell's tests are cut
+// into square tiles (grid/pair_index.hpp) whose per-cell counts are
+// prefix-summed; a block finds its tile's cell from the sums, reads the
+// tile's two runs of leaves (from a copy of them in cell order, coalesced)
+// and their roots' float boxes into shared memory once, and its threads run
+// the tile's tests from there with the same filters as the CPU (same root,
+// time slots, control bits and extended control bits, root 18-DOPs),
+// appending the root pairs; a device sort + unique gives the exact set of
+// triangle pairs, ordered as the CPU's. The adaptive grid's test cells
+// (adaptive_cells.cuh) run through the same tiles, with the CPU adaptive
+// grid's rule (the cell that owns a pair tests it; leaf and root DOPs).
 #pragma once
 
 #include <cuda_runtime_api.h>
@@ -49,26 +41,15 @@ struct UniformTileMember {
 
 /// Buffers of the pair stage, reused across calls (they only grow).
 struct DevicePairs {
-  /// Cell by cell, each cell's by root (swept: by its root's rank, triangle_rank).
-  DeviceBuffer<RegisteredLeaf> registered;
+  DeviceBuffer<RegisteredLeaf> registered;  ///< cell by cell, each cell's by root triangle
   /// registered[r] in its cell, and its root's float box (both in the order of registered).
   DeviceBuffer<UniformTileMember> tile_members;
   DeviceBuffer<FloatBox> tile_boxes;
   DeviceBuffer<std::uint64_t> order_keys, order_keys_spare;  ///< the registrations' sort
   DeviceBuffer<std::uint32_t> order_ids, order_ids_spare;
-  /// Each triangle's rank in the sweep order: by the lower y of its float box
-  /// (sweep_low), ties by triangle. The uniform grid's chunks are ranges of it.
-  DeviceBuffer<std::uint32_t> triangle_rank;
-  DeviceBuffer<std::uint32_t> rank_keys, rank_keys_spare, rank_ids, rank_ids_spare;  ///< the ranks' sort
-  /// The tests in the tiles of each unit (a cell, or a swept cell's block of
-  /// leaves) and their sum; test_total[1]: every pair of the swept cells,
-  /// tested or not.
-  DeviceBuffer<std::uint64_t> cell_tests, test_total;
-  DeviceBuffer<std::uint64_t> cell_tiles, first_tile;  ///< tiles per unit, and their exclusive sum
-  DeviceBuffer<std::uint64_t> row_begin, row_end;      ///< a cell's rows [begin, end) in a pass
-  /// A swept cell's every pair and blocks, and the blocks' exclusive sum.
-  DeviceBuffer<std::uint64_t> cell_pairs, cell_blocks, first_block;
-  DeviceBuffer<std::uint32_t> block_cell;  ///< a block's cell
+  DeviceBuffer<std::uint64_t> cell_tests, test_total;  ///< a chunk's tests per cell, and their sum (one value)
+  DeviceBuffer<std::uint64_t> cell_tiles, first_tile;  ///< a chunk's tiles per cell (grid/pair_index.hpp)
+  DeviceBuffer<std::uint64_t> row_begin, row_end;      ///< a chunk's rows [begin, end) of each cell
   DeviceBuffer<std::uint64_t> kept, culled, sorted;  ///< kept and sorted: the sort's two halves
   DeviceBuffer<TrianglePair> pairs;  ///< the result of a chunk: unique root pairs, ascending
   DeviceBuffer<unsigned long long> counters;
@@ -77,35 +58,23 @@ struct DevicePairs {
 
   explicit DevicePairs(cudaStream_t stream)
       : registered(0, stream), tile_members(0, stream), tile_boxes(0, stream), order_keys(0, stream),
-        order_keys_spare(0, stream), order_ids(0, stream), order_ids_spare(0, stream), triangle_rank(0, stream),
-        rank_keys(0, stream), rank_keys_spare(0, stream), rank_ids(0, stream), rank_ids_spare(0, stream),
-        cell_tests(0, stream),
+        order_keys_spare(0, stream), order_ids(0, stream), order_ids_spare(0, stream), cell_tests(0, stream),
         test_total(0, stream), cell_tiles(0, stream), first_tile(0, stream), row_begin(0, stream),
-        row_end(0, stream), cell_pairs(0, stream), cell_blocks(0, stream), first_block(0, stream),
-        block_cell(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream),
-        pairs(0, stream), counters(0, stream), histogram(0, stream), temp(0, stream) {}
+        row_end(0, stream), kept(0, stream), culled(0, stream), sorted(0, stream), pairs(0, stream),
+        counters(0, stream), histogram(0, stream), temp(0, stream) {}
 
-  /// Bytes of the numbering of the tests and tiles.
+  /// Bytes of the per-cell numbering of a chunk's tests and tiles.
   std::size_t cell_test_bytes() const {
     return cell_tests.capacity_bytes() + test_total.capacity_bytes() + cell_tiles.capacity_bytes() +
-           first_tile.capacity_bytes() + row_begin.capacity_bytes() + row_end.capacity_bytes() +
-           cell_pairs.capacity_bytes() + cell_blocks.capacity_bytes() + first_block.capacity_bytes() +
-           block_cell.capacity_bytes();
+           first_tile.capacity_bytes() + row_begin.capacity_bytes() + row_end.capacity_bytes();
   }
 };
-
-/// Device bytes of the numbering of the tests and tiles of `cells` swept
-/// uniform cells holding `registrations` leaves (an upper bound: their blocks
-/// are counted as at most one a cell more than registrations / kPairTileSide).
-std::size_t uniform_numbering_bytes(std::size_t cells, std::size_t registrations);
 
 /// Device bytes per kept test of a chunk: its key, the sort's second half,
 /// its unique pair (the sort's scratch is small beside them).
 constexpr std::size_t kPairChunkBytesPerTest = 3 * sizeof(std::uint64_t);
 
-/// The chunk order's [first, end) whose pairs one chunk holds: the pairs whose
-/// smaller root lies there, or in swept cells those whose earlier leaf in the
-/// sweep order has its root's rank there.
+/// The triangles [first, end) whose pairs (with a larger triangle) one chunk holds.
 struct RootRange {
   std::uint32_t first = 0, end = 0;
 };
@@ -114,16 +83,14 @@ struct RootRange {
 ///
 /// Memory: the kept tests of a pass are at most `key_room` (the caller's share
 /// of the device memory over kPairChunkBytesPerTest); when one pass would keep
-/// more, the tests are split by the chunk order (RootRange) into ranges of at
-/// most key_room kept tests each, read from a histogram of the kept tests
-/// over the range, and every range runs as a pass of its own: in the uniform
-/// grid the rows of its roots (swept: ranks; contiguous in each cell, whose
-/// leaves ascend by them), in the adaptive grid every tile that may hold a
-/// test of the range, only the range's tests run. A root pair's tests all lie
-/// in one range, so each chunk's unique pairs are unique in the whole set and
-/// every count is the sum over chunks; the chunks ascend by root pair, but
-/// for the swept cells'. `plan` holds the ranges of the last call and is
-/// tried first (a scan's steps are alike); on return it holds this call's.
+/// more, the tests are split by the smaller root triangle of each pair into
+/// ranges (RootRange) of at most key_room kept tests each, read from a
+/// histogram of the kept tests over the range, and every range runs as a pass
+/// of its own: every test, only those of the range kept. Ranges are disjoint
+/// and ascending, so the chunks' unique pairs, one after the other, are the
+/// sorted unique pairs of the whole set, and every count is the sum over
+/// chunks. `plan` holds the ranges of the last call and is tried first (a scan's
+/// steps are alike); on return it holds this call's.
 /// Throws UsageError when the kept tests of one triangle exceed key_room.
 struct PairChunkPlan {
   std::size_t key_room = ~std::size_t{0};
@@ -131,8 +98,7 @@ struct PairChunkPlan {
 };
 
 /// Copies the registered leaves into pairs.registered, cell by cell and each
-/// cell's by root (stable), or `swept` by their root's rank in the sweep
-/// order (pairs.triangle_rank, ranked first), with each
+/// cell's by root triangle (stable; roots below triangle_count), with each
 /// one's UniformTileMember in the grid's cell it is registered in and its
 /// root's float box (triangle_boxes, #F) beside it, which is all the pair
 /// tests read of them: the leaves and the registration's scratch may be
@@ -140,16 +106,14 @@ struct PairChunkPlan {
 /// add before they allocate (it may throw). Throws CudaError, or what `check`
 /// throws.
 void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_count, const FloatBox* triangle_boxes,
-                                   const DeviceCellLists& lists, const GridSpec& grid, bool swept, DevicePairs& pairs,
+                                   const DeviceCellLists& lists, const GridSpec& grid, DevicePairs& pairs,
                                    cudaStream_t stream, const GrowthCheck& check = {});
 
-/// Runs the tests of the registered cells (pairs.registered and the rest,
-/// from order_registrations_on_device with the same grid, boxes and
-/// `swept`) and hands the unique triangle pairs to `visit` chunk by chunk
-/// (see PairChunkPlan), each chunk's pairs ascending (and the chunks, but
-/// for swept cells'); the device array passed to visit is valid until it
-/// returns. Fills stats' test counters (a swept cell's pairs apart in y,
-/// untested, count in culled_by_boxes: the CPU's counts),
+/// Runs every test of the registered cells (pairs.registered and the rest,
+/// from order_registrations_on_device with the same grid and boxes) and
+/// hands the unique triangle pairs to `visit` chunk by chunk (see PairChunkPlan), each chunk's pairs
+/// ascending and the chunks in ascending order; the device array passed to
+/// visit is valid until it returns. Fills stats' test counters,
 /// culled_by_dop, duplicate_root_pair_tests, duplicate_culled_tests (when
 /// count_culled: the culled tests' keys are then kept, see
 /// BroadPhaseSettings; their room is not bounded by the plan) and
@@ -159,10 +123,9 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
 /// @param triangle_dops  #F device root swept DOPs; triangle_count = #F
 /// @param triangle_boxes #F device float_box_of(triangle_dops[f]): a pair whose
 ///                       boxes are apart is culled without reading its DOPs
-void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, bool swept,
-                               const Dop18* triangle_dops, const FloatBox* triangle_boxes, std::size_t triangle_count,
-                               bool count_culled, PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream,
-                               BroadPhaseStats& stats,
+void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
+                               const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
+                               PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream, BroadPhaseStats& stats,
                                const std::function<void(const TrianglePair*, std::size_t)>& visit);
 
 /// As enumerate_pairs_on_device for the adaptive grid's test cells (from

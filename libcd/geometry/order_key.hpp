@@ -1,4 +1,4 @@
-// Doubles (and floats) as unsigned integers that order as they do, so that the
+// Doubles as unsigned integers that order as the doubles do, so that the
 // largest or smallest of many doubles can be taken with 64-bit integer
 // atomics, in any order, with the same result (the CUDA bounds stage's scene
 // box and largest radius, libcd/cuda/primitive_bounds.cu). The key of -0 lies
@@ -20,14 +20,6 @@ SNAG_HD_INLINE std::uint64_t order_key(double d) {
   std::uint64_t bits = 0;
   std::memcpy(&bits, &d, sizeof bits);
   return bits >> 63 ? ~bits : bits | (std::uint64_t{1} << 63);
-}
-
-/// As order_key(double), for floats (the cells' sweep along y sorts by it,
-/// libcd/cuda/pair_enumeration.cu).
-SNAG_HD_INLINE std::uint32_t order_key(float f) {
-  std::uint32_t bits = 0;
-  std::memcpy(&bits, &f, sizeof bits);
-  return bits >> 31 ? ~bits : bits | (std::uint32_t{1} << 31);
 }
 
 /// The double whose order_key is `key`.

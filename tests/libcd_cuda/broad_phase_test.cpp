@@ -121,25 +121,15 @@ void expect_same_counts(const BroadPhaseStats& cpu, const BroadPhaseStats& gpu) 
   EXPECT_EQ(cpu.candidates, gpu.candidates);
 }
 
-/// The cell orders of the GPU's `method`: both for a uniform grid (its cells
-/// by root, and swept along y), the adaptive grid's own.
-std::vector<CellOrder> cell_orders(BroadPhaseMethod method) {
-  if (method == BroadPhaseMethod::kAdaptiveGrid) return {CellOrder::kRoot};
-  return {CellOrder::kRoot, CellOrder::kSwept};
-}
-
-const char* cell_order_name(CellOrder order) { return order == CellOrder::kSwept ? "swept cells" : "cells by root"; }
-
-/// CCD and static detection on CPU and GPU (cells in `order`); everything
-/// must be identical. Returns the number of CCD candidates.
+/// CCD and static detection on CPU and GPU; everything must be identical.
+/// Returns the number of CCD candidates (so callers can check the case is not trivial).
 std::size_t expect_gpu_equals_cpu(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
-                                  BroadPhaseMethod method, const BroadPhaseSettings& settings, CellOrder order) {
-  SCOPED_TRACE(cell_order_name(order));
+                                  BroadPhaseMethod method, const BroadPhaseSettings& settings) {
   const bool subdivide = method != BroadPhaseMethod::kLargestTriangleGrid;
   VirtualSubdivisionGrid cpu(subdivide, method == BroadPhaseMethod::kAdaptiveGrid
                                             ? VirtualSubdivisionGrid::Cells::kAdaptive
                                             : VirtualSubdivisionGrid::Cells::kUniform);
-  const std::unique_ptr<BroadPhase> gpu = CudaBroadPhase::create(method, order);
+  const std::unique_ptr<BroadPhase> gpu = make_cuda_broad_phase(method);
   cpu.build(scene, settings);
   gpu->build(scene, settings);
 
@@ -163,17 +153,6 @@ std::size_t expect_gpu_equals_cpu(const Scene& scene, const std::vector<Vec3>& x
   gpu->detect_ccd(x_t0, x_t1, vf_gpu, ee_gpu);
   EXPECT_EQ(vf_cpu, vf_gpu);
   EXPECT_EQ(ee_cpu, ee_gpu);
-  return ccd_candidates;
-}
-
-/// CCD and static detection on CPU and GPU (each cell order); everything
-/// must be identical. Returns the number of CCD candidates (so callers can
-/// check the case is not trivial).
-std::size_t expect_gpu_equals_cpu(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
-                                  BroadPhaseMethod method, const BroadPhaseSettings& settings) {
-  std::size_t ccd_candidates = 0;
-  for (const CellOrder order : cell_orders(method))
-    ccd_candidates = expect_gpu_equals_cpu(scene, x_t0, x_t1, method, settings, order);
   return ccd_candidates;
 }
 
@@ -363,19 +342,16 @@ Soup crowded_soup(unsigned seed, int n) {
 void expect_chunked_ccd_equals_cpu(const Soup& soup, BroadPhaseMethod method, const BroadPhaseStats& cpu,
                                    const std::vector<VertexFaceCandidate>& vf,
                                    const std::vector<EdgeEdgeCandidate>& ee) {
-  for (const CellOrder order : cell_orders(method)) {
-    SCOPED_TRACE(cell_order_name(order));
-    auto chunked = CudaBroadPhase::create(method, order);
-    chunked->build(soup.scene, {});
-    chunked->set_chunk_rooms(cpu.triangle_pairs / 25 + 8, vf.size() + ee.size() + 16);
-    std::vector<VertexFaceCandidate> vf_chunked;
-    std::vector<EdgeEdgeCandidate> ee_chunked;
-    chunked->detect_ccd(soup.x_t0, soup.x_t1, vf_chunked, ee_chunked);
-    EXPECT_GT(chunked->last_chunks(), 10u);
-    EXPECT_EQ(vf_chunked, vf);
-    EXPECT_EQ(ee_chunked, ee);
-    expect_same_counts(cpu, chunked->stats());
-  }
+  auto chunked = CudaBroadPhase::create(method);
+  chunked->build(soup.scene, {});
+  chunked->set_chunk_rooms(cpu.triangle_pairs / 25 + 8, vf.size() + ee.size() + 16);
+  std::vector<VertexFaceCandidate> vf_chunked;
+  std::vector<EdgeEdgeCandidate> ee_chunked;
+  chunked->detect_ccd(soup.x_t0, soup.x_t1, vf_chunked, ee_chunked);
+  EXPECT_GT(chunked->last_chunks(), 10u);
+  EXPECT_EQ(vf_chunked, vf);
+  EXPECT_EQ(ee_chunked, ee);
+  expect_same_counts(cpu, chunked->stats());
 }
 
 /// A device array's first n items appended to `to`.

@@ -12,7 +12,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <memory>
 #include <random>
 #include <string>
@@ -83,33 +82,28 @@ TEST_F(MemoryLimit, ChunkedBroadPhaseOnClothBallGivesTheCandidatesOfOneChunk) {
   ASSERT_GT(one.vf.size() + one.ee.size(), 1000000u);
 
   // Rooms of a few percent of the step's keys and candidates: tens of chunks
-  // and parts; the second detection reuses the first one's ranges. Cells by
-  // root and swept (whose chunks are ranges of the sweep order, not of the
-  // pairs).
-  for (const CellOrder order : {CellOrder::kRoot, CellOrder::kSwept}) {
-    const std::string cells = order == CellOrder::kSwept ? "swept cells, " : "cells by root, ";
-    auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid, order);
-    chunked->build(step.scene, BroadPhaseSettings{});
-    chunked->set_chunk_rooms(one.ccd.triangle_pairs / 20, (one.vf.size() + one.ee.size()) / 50);
-    for (int run = 0; run < 2; ++run) {
-      const std::string where = cells + "run " + std::to_string(run);
-      const Candidates many = detect(*chunked, step);
-      EXPECT_GT(many.ccd_chunks, 10u) << where;
-      EXPECT_EQ(many.vf, one.vf) << where;
-      EXPECT_EQ(many.ee, one.ee) << where;
-      EXPECT_EQ(many.pairs, one.pairs) << where;
-      expect_same_counts(one.ccd, many.ccd, where + " ccd");
-      expect_same_counts(one.statics, many.statics, where + " static");
-    }
-    // Parts of pairs inside each chunk: a candidate room far under a chunk's.
-    chunked->set_chunk_rooms(one.ccd.triangle_pairs / 4, (one.vf.size() + one.ee.size()) / 100);
-    Candidates parts;
-    chunked->detect_ccd(step.m92.positions, step.m93.positions, parts.vf, parts.ee);
-    EXPECT_GT(chunked->last_feature_parts(), 50u) << cells;
-    EXPECT_EQ(parts.vf, one.vf) << cells;
-    EXPECT_EQ(parts.ee, one.ee) << cells;
-    expect_same_counts(one.ccd, chunked->stats(), cells + "parts");
+  // and parts; the second detection reuses the first one's ranges.
+  auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  chunked->build(step.scene, BroadPhaseSettings{});
+  chunked->set_chunk_rooms(one.ccd.triangle_pairs / 20, (one.vf.size() + one.ee.size()) / 50);
+  for (int run = 0; run < 2; ++run) {
+    const std::string where = "run " + std::to_string(run);
+    const Candidates many = detect(*chunked, step);
+    EXPECT_GT(many.ccd_chunks, 10u) << where;
+    EXPECT_EQ(many.vf, one.vf) << where;
+    EXPECT_EQ(many.ee, one.ee) << where;
+    EXPECT_EQ(many.pairs, one.pairs) << where;
+    expect_same_counts(one.ccd, many.ccd, where + " ccd");
+    expect_same_counts(one.statics, many.statics, where + " static");
   }
+  // Parts of pairs inside each chunk: a candidate room far under a chunk's.
+  chunked->set_chunk_rooms(one.ccd.triangle_pairs / 4, (one.vf.size() + one.ee.size()) / 100);
+  Candidates parts;
+  chunked->detect_ccd(step.m92.positions, step.m93.positions, parts.vf, parts.ee);
+  EXPECT_GT(chunked->last_feature_parts(), 50u);
+  EXPECT_EQ(parts.vf, one.vf);
+  EXPECT_EQ(parts.ee, one.ee);
+  expect_same_counts(one.ccd, chunked->stats(), "parts");
 }
 
 // The same on a small random soup with rooms of a few keys and candidates
@@ -137,21 +131,18 @@ TEST_F(MemoryLimit, ChunksOfAFewTestsGiveTheCandidatesOfOneChunk) {
   whole->detect_static(x_t1, one.pairs);
   ASSERT_GT(one.vf.size() + one.ee.size(), 500u);
 
-  for (const CellOrder order : {CellOrder::kRoot, CellOrder::kSwept}) {
-    const std::string cells = order == CellOrder::kSwept ? "swept cells" : "cells by root";
-    auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid, order);
-    chunked->build(scene, BroadPhaseSettings{});
-    chunked->set_chunk_rooms(one.ccd.triangle_pairs / 20 + 8, (one.vf.size() + one.ee.size()) / 30 + 16);
-    Candidates many;
-    chunked->detect_ccd(x_t0, x_t1, many.vf, many.ee);
-    EXPECT_GT(chunked->last_chunks(), 10u) << cells;
-    EXPECT_GT(chunked->last_feature_parts(), 20u) << cells;
-    EXPECT_EQ(many.vf, one.vf) << cells;
-    EXPECT_EQ(many.ee, one.ee) << cells;
-    expect_same_counts(one.ccd, chunked->stats(), "soup, " + cells);
-    chunked->detect_static(x_t1, many.pairs);
-    EXPECT_EQ(many.pairs, one.pairs) << cells;
-  }
+  auto chunked = CudaBroadPhase::create(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  chunked->build(scene, BroadPhaseSettings{});
+  chunked->set_chunk_rooms(one.ccd.triangle_pairs / 20 + 8, (one.vf.size() + one.ee.size()) / 30 + 16);
+  Candidates many;
+  chunked->detect_ccd(x_t0, x_t1, many.vf, many.ee);
+  EXPECT_GT(chunked->last_chunks(), 10u);
+  EXPECT_GT(chunked->last_feature_parts(), 20u);
+  EXPECT_EQ(many.vf, one.vf);
+  EXPECT_EQ(many.ee, one.ee);
+  expect_same_counts(one.ccd, chunked->stats(), "soup");
+  chunked->detect_static(x_t1, many.pairs);
+  EXPECT_EQ(many.pairs, one.pairs);
 }
 
 TEST_F(MemoryLimit, OneTriangleOverTheRoomOnClothBallIsAUsageError) {
@@ -340,36 +331,6 @@ TEST_F(MemoryLimit, BackEndOnClothBallUnderALimitGivesTheEventsOfTheUnlimitedRun
     }
   }
   EXPECT_GE(fitted, 1);
-}
-
-/// Sets an environment variable for its lifetime (unset after).
-class ScopedEnvironment {
- public:
-  ScopedEnvironment(const char* name, const char* value) : name_(name) { setenv(name, value, 1); }
-  ~ScopedEnvironment() { unsetenv(name_); }
-  ScopedEnvironment(const ScopedEnvironment&) = delete;
-  ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
-
- private:
-  const char* name_;
-};
-
-// The back end with the uniform grid's cells swept along y
-// (SNAG_CUDA_SWEPT_CELLS=1, CellOrder::kSwept): the events of the cells by
-// root, unlimited and under a limit of half their peak (which the cells by
-// root fit under, above), where its detections run in chunks of its sweep
-// order (their intersection events come out of order and are put in order).
-TEST_F(MemoryLimit, BackEndWithSweptCellsGivesTheEventsOfTheCellsByRoot) {
-  const ClothBallStep step;
-  const LimitedRun by_root = run_limited(step, 0);
-  ASSERT_GT(by_root.events.size(), 100000u);
-  const ScopedEnvironment swept("SNAG_CUDA_SWEPT_CELLS", "1");
-  ASSERT_EQ(default_cell_order(), CellOrder::kSwept);
-  test::expect_same_events(by_root.events, run_limited(step, 0).events, "swept cells, unlimited");
-  const std::size_t limit = by_root.peak_bytes / 2;
-  const LimitedRun limited = run_limited(step, limit);
-  EXPECT_LE(limited.peak_bytes, limit);
-  test::expect_same_events(by_root.events, limited.events, "swept cells, limit " + std::to_string(limit));
 }
 
 /// The smallest limit, to 1/64 of `high`, under which `run(limit)` is not

@@ -3,11 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <random>
 #include <set>
-#include <string>
 #include <utility>
 #include <vector>
 
@@ -139,71 +137,6 @@ TEST(PairIndex, TilesHoldEachTestOfTheirRowsOnce) {
   const PairTile last = pair_tile(big, 0, big, tiles - 1);
   EXPECT_EQ(last.column_end, big);
   EXPECT_EQ(last.row_begin, (big - 2) / side * side);
-}
-
-TEST(PairIndex, SweptTilesHoldEachPairOfTheirRowsThatMeetsInYOnce) {
-  // Items ordered by lower y, with ties and upper bounds that touch the next
-  // lower bounds, and rows [i0, i1) starting and ending on and off the block
-  // edges: each block's tiles (its rows against the column blocks up to its
-  // rows' longest run's end) hold every pair i < j with i in [i0, i1) and
-  // low[j] <= high[i] once, no pair of another row, the other pairs of their
-  // rows at most once, and swept_rows_tests counts them.
-  const std::uint64_t side = kPairTileSide;
-  const std::uint64_t ns[] = {0, 1, 2, 3, side - 1, side, side + 1, side + 2, 2 * side + 1, 5 * side + 7};
-  std::mt19937 rng(11);
-  for (std::uint64_t n : ns) {
-    for (int trial = 0; trial < 12; ++trial) {
-      std::vector<float> low(n), high(n);
-      std::uniform_int_distribution<int> step(0, 2), extent(0, trial % 4 == 0 ? 400 : 6);
-      float y = 0;
-      for (std::uint64_t i = 0; i < n; ++i) {
-        y += static_cast<float>(step(rng));  // 0: a tie with the last
-        low[i] = y;
-        high[i] = y + static_cast<float>(extent(rng));  // may equal a later lower bound exactly
-      }
-      std::uint64_t i0 = 0, i1 = n;
-      if (trial % 3 == 1 && n > 0) {
-        const std::uint64_t a = rng() % (n + 1), b = rng() % (n + 1);
-        i0 = std::min(a, b);
-        i1 = std::max(a, b);
-      } else if (trial % 3 == 2 && n > side) {
-        i0 = side - 1;
-        i1 = side + 1;
-      }
-      std::vector<int> seen(n * n, 0);
-      std::uint64_t counted = 0, in_tiles = 0;
-      for (std::uint64_t a = 0; a < item_blocks(n); ++a) {
-        const SweptRows rows = swept_rows(n, a, i0, i1);
-        if (rows.begin >= rows.end) continue;
-        ASSERT_GE(rows.begin, a * side);
-        ASSERT_LE(rows.end, (a + 1) * side);
-        float longest = -INFINITY;
-        for (std::uint64_t i = rows.begin; i < rows.end; ++i) longest = std::max(longest, high[i]);
-        const std::uint64_t run_end = swept_run_end([&](std::uint64_t j) { return low[j]; }, rows.end, n, longest);
-        const std::uint64_t column_end = swept_column_blocks_end(run_end);
-        ASSERT_GT(column_end, a);
-        ASSERT_LE(column_end, item_blocks(n));
-        counted += swept_rows_tests(n, rows, column_end);
-        for (std::uint64_t b = a; b < column_end; ++b) {
-          const PairTile tile = swept_tile(n, rows, b);
-          for (std::uint64_t i = tile.row_begin; i < tile.row_end; ++i)
-            for (std::uint64_t j = std::max(tile.column_begin, i + 1); j < tile.column_end; ++j) {
-              ++seen[i * n + j];
-              ++in_tiles;
-            }
-        }
-      }
-      EXPECT_EQ(counted, in_tiles) << "n " << n;
-      for (std::uint64_t i = 0; i < n; ++i)
-        for (std::uint64_t j = i + 1; j < n; ++j) {
-          const std::string where = "n " + std::to_string(n) + " rows [" + std::to_string(i0) + ", " +
-                                    std::to_string(i1) + ") pair " + std::to_string(i) + ", " + std::to_string(j);
-          const bool row = i0 <= i && i < i1;
-          ASSERT_LE(seen[i * n + j], row ? 1 : 0) << where;
-          if (row && low[j] <= high[i]) ASSERT_EQ(seen[i * n + j], 1) << where;
-        }
-    }
-  }
 }
 
 LeafCells random_leaf(std::mt19937& rng) {
