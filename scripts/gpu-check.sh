@@ -173,7 +173,7 @@ while read -r kind name path; do
           SNAG_CUPTI_TRACE="$logs/trace-$mode.csv" "$bundle/bin/snag-scan" --sequence "${sequence[@]}" -b cuda \
           -m "$mode" -q -r "$logs/trace-$mode.jsonl" >"$logs/trace-$mode.log" 2>&1
         rc=$?  # 1: events found
-        python3 "$bundle/trace_summary.py" "$logs/trace-$mode.csv" 2>&1 | tee "$logs/trace-$mode.txt"
+        python3 "$bundle/trace_summary.py" --steps 21 "$logs/trace-$mode.csv" 2>&1 | tee "$logs/trace-$mode.txt"
         summary_rc=${PIPESTATUS[0]}
         if [ "$rc" -le 1 ] && [ "$summary_rc" -eq 0 ]; then
           record "trace $name -m $mode" PASS "$(sed -n 2p "$logs/trace-$mode.txt")" $((SECONDS - start))

@@ -5,13 +5,15 @@ was busy (any kernel, copy or memset running, on any stream) and idle, the
 gaps between device work, and the kernels' and copies' totals.
 
 A step is the time from one launch of a marker kernel to the next (default:
-the edge-edge CCD early-exit kernel, launched once per step and chunk); the
-figures cover the middle half of the steps, away from the scan's start and
-end. Example:
+the edge-edge CCD early-exit kernel, launched once per step and chunk); with
+--steps N, the time from one step's first launch to the next step's, the
+launches taken launches / N at a time (a scene whose steps run in chunks:
+without it each chunk counts as a step). The figures cover the middle half
+of the steps, away from the scan's start and end. Example:
 
   CUDA_INJECTION64_PATH=build/bench/gpu/libsnag_cupti_trace.so \\
-  SNAG_CUPTI_TRACE=trace.csv snag-scan --sequence f0.ply f1.ply ... -b cuda -q
-  bench/gpu/trace_summary.py trace.csv
+  SNAG_CUPTI_TRACE=trace.csv snag-scan --sequence f0.ply f1.ply ... f11.ply -b cuda -q
+  bench/gpu/trace_summary.py --steps 11 trace.csv
 """
 import argparse
 import csv
@@ -99,6 +101,10 @@ def main():
     parser.add_argument("trace", help="CSV written by libsnag_cupti_trace.so")
     parser.add_argument("--marker", default="ccd_early_exit_kernel.*EdgeEdgeQuery",
                         help="regular expression on the mangled kernel name that starts a step")
+    parser.add_argument("--steps", type=int,
+                        help="the steps the trace holds (the scan's frames less one): where a step runs in chunks "
+                        "(a large scene, --device-memory), the marker runs once a chunk, and its launches are "
+                        "taken launches / steps at a time (the same number every step)")
     parser.add_argument("--gap", type=float, default=5.0, help="gaps shorter than this many microseconds are not listed")
     parser.add_argument("--kernels", type=int, default=15, help="kernels listed")
     parser.add_argument("--gap-context", type=int, default=5,
@@ -115,9 +121,16 @@ def main():
     if not rows:
         sys.exit(f"trace_summary: {args.trace} lists no device work")
     marker = re.compile(args.marker)
-    starts = sorted(r[1] for r in rows if r[0] == "kernel" and marker.search(r[5]))
+    launches = sorted(r[1] for r in rows if r[0] == "kernel" and marker.search(r[5]))
+    per_step = 1
+    if args.steps is not None:
+        if args.steps < 1 or len(launches) < args.steps or len(launches) % args.steps != 0:
+            sys.exit(f"trace_summary: {len(launches)} launches of the marker /{args.marker}/ do not divide into "
+                     f"{args.steps} steps (the same number each)")
+        per_step = len(launches) // args.steps
+    starts = launches[::per_step]
     if len(starts) < 5:
-        sys.exit(f"trace_summary: {len(starts)} launches of the marker /{args.marker}/: too few steps to measure")
+        sys.exit(f"trace_summary: {len(starts)} steps (marker /{args.marker}/): too few steps to measure")
     first, last = len(starts) // 4, 3 * len(starts) // 4
     lo, hi = starts[first], starts[last]
     steps = last - first
@@ -131,7 +144,8 @@ def main():
     busy, gap_list = union_length([(r[1], r[2], label(r)) for r in rows], lo, hi)
     gaps = [g[0] for g in gap_list]
     listed = sorted((g for g in gaps if g >= args.gap * 1e3), reverse=True)
-    print(f"trace: {len(rows)} activities; {len(starts)} steps (marker /{args.marker}/), "
+    each = f", {per_step} launches a step" if per_step > 1 else ""
+    print(f"trace: {len(rows)} activities; {len(starts)} steps (marker /{args.marker}/{each}), "
           f"measured over steps {first}..{last} ({steps})")
     print(f"per step: {(hi - lo) * ms:.3f} ms; device busy {busy * ms:.3f} ms, idle {(hi - lo - busy) * ms:.3f} ms")
     print(f"  gaps of {args.gap:g} us or more: {len(listed) / steps:.1f} per step, {sum(listed) * ms:.3f} ms; "

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "tests/tools/run_process.hpp"
 
@@ -33,8 +34,10 @@ std::string timeline(int steps) {
   return csv;
 }
 
-ProcessResult summarize(const std::string& csv, const TemporaryDirectory& dir) {
-  return run_process(SNAG_PYTHON3, {TRACE_SUMMARY_PY, dir.write("trace.csv", csv)}, {60});
+ProcessResult summarize(const std::string& csv, const TemporaryDirectory& dir, std::vector<std::string> options = {}) {
+  options.insert(options.begin(), TRACE_SUMMARY_PY);
+  options.push_back(dir.write("trace.csv", csv));
+  return run_process(SNAG_PYTHON3, options, {60});
 }
 
 TEST(TraceSummary, BusyIdleGapsKernelsAndCopiesPerStep) {
@@ -60,6 +63,35 @@ TEST(TraceSummary, BusyIdleGapsKernelsAndCopiesPerStep) {
   const std::size_t pairs = run.out.find("0.400        1.0  ");
   ASSERT_NE(pairs, std::string::npos) << run.out;
   EXPECT_LT(pairs, run.out.find("0.100        1.0  ")) << run.out;
+}
+
+// A step that runs in three chunks launches the marker three times (at 0,
+// 300 and 600 us of each 1 ms step, 100 us each): with --steps 9 its 27
+// launches are nine steps of 1 ms, busy 300 us; without it each chunk counts
+// as a step; launches that do not divide into the steps are an error.
+TEST(TraceSummary, ChunkedStepsAreTakenWholeWithSteps) {
+  TemporaryDirectory dir;
+  std::string csv = "kind,start_ns,end_ns,stream,bytes,name\n";
+  for (int k = 0; k < 9; ++k)
+    for (int chunk = 0; chunk < 3; ++chunk) {
+      const long long t = 5'000'000'000LL + k * 1'000'000LL + chunk * 300'000LL;
+      csv += "kernel," + std::to_string(t) + "," + std::to_string(t + 100'000) + ",7,0," + kMarker + "\n";
+    }
+  const ProcessResult steps = summarize(csv, dir, {"--steps", "9"});
+  ASSERT_EQ(steps.exit_code, 0) << steps.err;
+  EXPECT_NE(steps.out.find("9 steps (marker /"), std::string::npos) << steps.out;
+  EXPECT_NE(steps.out.find(", 3 launches a step), measured over steps 2..6 (4)"), std::string::npos) << steps.out;
+  EXPECT_NE(steps.out.find("per step: 1.000 ms; device busy 0.300 ms, idle 0.700 ms"), std::string::npos) << steps.out;
+  EXPECT_NE(steps.out.find("0.300        3.0  "), std::string::npos) << steps.out;
+  const ProcessResult chunks = summarize(csv, dir);
+  ASSERT_EQ(chunks.exit_code, 0) << chunks.err;
+  EXPECT_NE(chunks.out.find("27 steps (marker /"), std::string::npos) << chunks.out;
+  EXPECT_EQ(chunks.out.find("launches a step"), std::string::npos) << chunks.out;
+  for (const char* wrong : {"10", "54", "0"}) {
+    const ProcessResult run = summarize(csv, dir, {"--steps", wrong});
+    EXPECT_NE(run.exit_code, 0) << wrong;
+    EXPECT_NE(run.err.find("27 launches of the marker"), std::string::npos) << wrong << ": " << run.err;
+  }
 }
 
 // The host's calls (SNAG_CUPTI_API=1) are not device work: a wait over each
