@@ -59,6 +59,7 @@ nlohmann::json to_json(const Result& r) {
           {"duplicate_root_pair_tests", s.duplicate_root_pair_tests},
           {"duplicate_culled_tests", s.duplicate_culled_tests}, {"duplicate_root_pair_percent", dup_pct},
           {"culled_by_dop", s.culled_by_dop}, {"triangle_pairs", s.triangle_pairs},
+          {"separated_triangle_pairs", s.separated_triangle_pairs},
           {"vf_before_culling", s.vf_before_culling}, {"vf_after_culling", s.vf_after_culling},
           {"ee_before_culling", s.ee_before_culling}, {"ee_after_culling", s.ee_after_culling},
           {"candidates", s.candidates}, {"memory_bytes", s.memory_bytes}};

@@ -83,6 +83,7 @@ json broad_counts(const BroadPhaseStats& s) {
           {"duplicate_root_pair_percent", s.tests ? 100.0 * double(s.duplicate_root_pair_tests) / double(s.tests) : 0.0},
           {"culled_by_dop", s.culled_by_dop},
           {"triangle_pairs", s.triangle_pairs},
+          {"separated_triangle_pairs", s.separated_triangle_pairs},
           {"vf_candidates", s.vf_after_culling},
           {"ee_candidates", s.ee_after_culling},
           {"candidates", s.candidates},

@@ -525,7 +525,7 @@ void BoxGridBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vec
     build_grid();
     stats_.seconds_registration = seconds_since(registration_start);
     triangle_pairs(pairs_);
-    feature_stage(*scene_, reps_, bounds_, pairs_, vf, ee, stats_);
+    feature_stage(*scene_, reps_, bounds_, pairs_, x_t0, x_t1, settings_, vf, ee, stats_);
     stats_.memory_bytes += (bounds_.edges.size() + bounds_.vertices.size()) * sizeof(Dop18);
     stats_.seconds_total = seconds_since(start);
   });

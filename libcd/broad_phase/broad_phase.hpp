@@ -31,6 +31,13 @@ struct BroadPhaseSettings {
   /// children, at most adaptive_max_depth ([0, 8]) levels below the grid.
   std::size_t adaptive_cell_limit = 64;
   int adaptive_max_depth = 4;
+  /// CCD: leave out the triangle pairs that a fixed direction keeps more
+  /// than the thickness apart over the step before their feature pairs are
+  /// made (TriangleSeparation, culling/representative_triangles.hpp). Their
+  /// feature pairs cannot touch, so the events are the same either way; off,
+  /// the candidates are all the feature pairs whose DOPs overlap (for tests
+  /// of that set and of the separation itself).
+  bool separate_triangles = true;
 };
 
 /// Counts and times of one detection. The virtual subdivision chapter's
@@ -72,6 +79,8 @@ struct BroadPhaseStats {
   /// The duplicates among all tests after the control bits are the sum of the two.
   std::size_t duplicate_culled_tests = 0;
   std::size_t triangle_pairs = 0;                 ///< unique triangle pairs after DOP culling
+  /// CCD, of triangle_pairs: those kept apart over the step (settings.separate_triangles), which give no features.
+  std::size_t separated_triangle_pairs = 0;
   /// detect_static_leaving_out: pairs sharing an apart vertex, left out
   /// before the DOP test (not in tests' culled_by_dop nor triangle_pairs).
   std::size_t left_out_apart = 0;

@@ -59,7 +59,7 @@ void BruteForceBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::
   arena.execute([&] {
     const auto start = Clock::now();
     const std::vector<TrianglePair> pairs = triangle_pairs(x_t0, x_t1);
-    feature_stage(*scene_, reps_, bounds_, pairs, vf, ee, stats_);
+    feature_stage(*scene_, reps_, bounds_, pairs, x_t0, x_t1, settings_, vf, ee, stats_);
     stats_.seconds_total = seconds_since(start);
   });
 }

@@ -143,7 +143,7 @@ void SweepAndPruneBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const st
     const auto sweep_start = Clock::now();
     sweep(bounds_.triangles, pairs_, nullptr);
     stats_.seconds_pairs = seconds_since(sweep_start);
-    feature_stage(*scene_, reps_, bounds_, pairs_, vf, ee, stats_);
+    feature_stage(*scene_, reps_, bounds_, pairs_, x_t0, x_t1, settings_, vf, ee, stats_);
     stats_.memory_bytes += (bounds_.edges.size() + bounds_.vertices.size()) * sizeof(Dop18);
     stats_.seconds_total = seconds_since(start);
   });

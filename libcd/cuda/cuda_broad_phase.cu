@@ -278,6 +278,7 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
   // of several chunks is large (cloth_ball ×4, ×16) and screens the rest
   // without counting (counted in every chunk, ×16 was 1-2% slower, H200).
   FeatureScreen feature_screen{d_x_t0, d_x_t1, screen != nullptr ? *screen : CcdSettings{}, screen_above};
+  const TriangleSeparation separation{d_x_t0, d_x_t1, settings_.thickness};
   triangle_pairs_on_device(d_x_t0, d_x_t1, stream, room, [&](const TrianglePair* pairs, std::size_t pair_count) {
     if (last_chunks_ > 1) feature_screen.only_above = 0;
     DeviceMemoryTracker::set_stage("broad phase: features");
@@ -297,9 +298,10 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
           DeviceMemoryTracker::set_stage("broad phase: features");
           features_start.record(stream);
         },
-        sorted, screen != nullptr ? &feature_screen : nullptr);
+        sorted, screen != nullptr ? &feature_screen : nullptr, settings_.separate_triangles ? &separation : nullptr);
   });
   DeviceMemoryTracker::set_stage("other");
+  stats_.separated_triangle_pairs = counts.separated;
   stats_.vf_before_culling = counts.vf_before;
   stats_.vf_after_culling = counts.vf_after;
   stats_.ee_before_culling = counts.ee_before;

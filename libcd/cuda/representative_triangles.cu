@@ -18,6 +18,7 @@
 
 #include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
+#include "libcd/cuda/triangle_separation.cuh"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
 
@@ -90,7 +91,9 @@ struct WaitingFeaturePair {
 /// Counts the feature pairs of triangle pair p < n before and after culling
 /// (tally[p]; tally[n] is zero; the sums of all pairs in counters[0] and [1]
 /// before, vertex-face and edge-edge, and with count_kept in [4] and [5]
-/// after) and records which the culling kept (kept[p];
+/// after) and records which the culling kept (kept[p]; a pair whose
+/// separated[p] is set, when separated is given, has none and reads nothing;
+/// separated may be kept itself, read before it is written;
 /// kept bit: vertex-face 3 s + i, edge-edge 6 + 3 i + j), so that
 /// write_kernel need not test them again:
 /// the CPU's loop body, one pair a thread. The DOPs' float boxes are tested
@@ -103,8 +106,8 @@ struct WaitingFeaturePair {
 /// Four blocks a multiprocessor (64 registers, a few spilled): on cloth_ball
 /// 345 µs, against 377 with the 84 registers it takes unbounded (H200).
 __global__ void __launch_bounds__(detail::kBlockSize, 4)
-    count_kernel(FeatureInputs in, std::size_t n, bool count_kept, FeatureTally* tally, std::uint16_t* kept,
-                 unsigned long long* counters) {
+    count_kernel(FeatureInputs in, std::size_t n, bool count_kept, const std::uint16_t* separated,
+                 FeatureTally* tally, std::uint16_t* kept, unsigned long long* counters) {
   __shared__ WaitingFeaturePair warp_waiting[detail::kBlockSize / 32][64];
   __shared__ unsigned warp_kept[detail::kBlockSize / 32][32];
   const unsigned lane = threadIdx.x & 31u;
@@ -133,7 +136,8 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
   };
 
   const std::uint64_t p = thread_item();
-  const bool valid = p < n;
+  const bool in_range = p < n;
+  const bool valid = in_range && (separated == nullptr || separated[p] == 0);
   unsigned vf_before = 0, ee_before = 0;
   Index side[2] = {0, 0};
   if (valid) {
@@ -184,8 +188,8 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
   if (waiting_count > 0) test_waiting(waiting_count);
   __syncwarp();
   unsigned vf_kept = 0, ee_kept = 0;
-  if (valid) {
-    const unsigned bits = kept_bits[lane];
+  if (in_range) {
+    const unsigned bits = kept_bits[lane];  // none for a pair that is not valid: it pushed nothing
     vf_kept = static_cast<unsigned>(__popc(bits & 63u));
     ee_kept = static_cast<unsigned>(__popc(bits >> 6));
     kept[p] = static_cast<std::uint16_t>(bits);
@@ -396,7 +400,7 @@ void representative_feature_pairs_on_device(
     std::size_t edge_count, const TrianglePair* pairs, std::size_t n, std::size_t candidate_room, DeviceFeatures& f,
     cudaStream_t stream, FeatureCounts& counts,
     const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit,
-    bool sorted, const FeatureScreen* screen) {
+    bool sorted, const FeatureScreen* screen, const TriangleSeparation* separation) {
   if (n == 0) return;
   if (candidate_room <= kMostCandidatesPerPair)
     throw UsageError("the device memory limit is too small for this scene: the feature stage has room for " +
@@ -414,11 +418,16 @@ void representative_feature_pairs_on_device(
                          pairs};
   f.tally.resize(n + 1);
   f.kept.resize(n);
-  f.counters.resize(6);
+  f.counters.resize(7);
   f.counters.fill_zero();
+  // The separated pairs' flags go to kept, which count_kernel reads first.
+  if (separation != nullptr)
+    mark_separated_pairs_on_device(*separation, topology.triangles.data(), pairs, n, f.kept.data(),
+                                   f.counters.data() + 6, stream);
   const bool decide_screen = screen != nullptr && screen->only_above > 0;
-  count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(in, n, decide_screen, f.tally.data(),
-                                                                     f.kept.data(), f.counters.data());
+  count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(
+      in, n, decide_screen, separation != nullptr ? f.kept.data() : nullptr, f.tally.data(), f.kept.data(),
+      f.counters.data());
   SNAG_CUDA_CHECK_LAUNCH();
   // Parts of consecutive pairs: a part starts where the candidates before it
   // reach a multiple of step, so it holds fewer than step + 15 <= room. One
@@ -432,10 +441,12 @@ void representative_feature_pairs_on_device(
   exclusive_scan(f.tally.data(), f.tally.data(), n + 1, AddFeatureTallies{}, f.temp, stream);
   FeatureTally total;
   // Before the DOPs, screened out, kept by the DOPs (vertex-face, edge-edge;
-  // the last two only where the screen decides whether it runs).
-  unsigned long long sums[6] = {0, 0, 0, 0, 0, 0};
-  ReadBack(stream).add(&total, f.tally.data() + n).add(sums, f.counters.data(), 6).wait();
+  // the last two only where the screen decides whether it runs), and the
+  // separated triangle pairs.
+  unsigned long long sums[7] = {0, 0, 0, 0, 0, 0, 0};
+  ReadBack(stream).add(&total, f.tally.data() + n).add(sums, f.counters.data(), 7).wait();
   f.screened = screen != nullptr && screen->runs(sums[4], sums[5], step);
+  counts.separated += sums[6];
   counts.vf_before += sums[0];
   counts.ee_before += sums[1];
   counts.vf_after += total.vf + sums[2];

@@ -8,6 +8,8 @@
 #include <cassert>
 #include <limits>
 
+#include "libcd/narrow_phase/ccd_separating_direction.hpp"
+
 namespace snag {
 
 RepresentativeTriangles assign_representative_triangles(const Scene& scene) {
@@ -61,10 +63,20 @@ bool is_corner(const Triangle& t, Index v) { return t[0] == v || t[1] == v || t[
 
 }  // namespace
 
+bool triangle_pair_separated(const Scene& scene, const TriangleSeparation& separation, Index a, Index b) {
+  const Triangle& ta = scene.triangles()[a];
+  const Triangle& tb = scene.triangles()[b];
+  const Vec3 a_t0[3] = {separation.x_t0[ta[0]], separation.x_t0[ta[1]], separation.x_t0[ta[2]]};
+  const Vec3 a_t1[3] = {separation.x_t1[ta[0]], separation.x_t1[ta[1]], separation.x_t1[ta[2]]};
+  const Vec3 b_t0[3] = {separation.x_t0[tb[0]], separation.x_t0[tb[1]], separation.x_t0[tb[2]]};
+  const Vec3 b_t1[3] = {separation.x_t1[tb[0]], separation.x_t1[tb[1]], separation.x_t1[tb[2]]};
+  return triangles_separated(a_t0, a_t1, b_t0, b_t1, separation.thickness);
+}
+
 void representative_feature_pairs(const Scene& scene, const RepresentativeTriangles& reps,
                                   const PrimitiveBounds& bounds, const std::vector<TrianglePair>& triangle_pairs,
                                   std::vector<VertexFaceCandidate>& vf, std::vector<EdgeEdgeCandidate>& ee,
-                                  FeatureCounts& counts) {
+                                  FeatureCounts& counts, const TriangleSeparation* separation) {
   const auto& tris = scene.triangles();
   const auto& edges = scene.edges();
   // Fixed chunks, concatenated in order: deterministic for any thread count.
@@ -73,7 +85,7 @@ void representative_feature_pairs(const Scene& scene, const RepresentativeTriang
   struct ChunkOut {
     std::vector<VertexFaceCandidate> vf;
     std::vector<EdgeEdgeCandidate> ee;
-    std::size_t vf_before = 0, ee_before = 0;
+    std::size_t separated = 0, vf_before = 0, ee_before = 0;
   };
   std::vector<ChunkOut> out(chunks);
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
@@ -81,6 +93,10 @@ void representative_feature_pairs(const Scene& scene, const RepresentativeTriang
     const std::size_t end = std::min(triangle_pairs.size(), (c + 1) * kChunk);
     for (std::size_t p = c * kChunk; p < end; ++p) {
       const Index side[2] = {triangle_pairs[p].a, triangle_pairs[p].b};
+      if (separation != nullptr && triangle_pair_separated(scene, *separation, side[0], side[1])) {
+        ++o.separated;
+        continue;
+      }
       for (int s = 0; s < 2; ++s) {
         const Index a = side[s], b = side[1 - s];
         for (int i = 0; i < 3; ++i) {
@@ -113,6 +129,7 @@ void representative_feature_pairs(const Scene& scene, const RepresentativeTriang
   for (const ChunkOut& o : out) {
     vf.insert(vf.end(), o.vf.begin(), o.vf.end());
     ee.insert(ee.end(), o.ee.begin(), o.ee.end());
+    counts.separated += o.separated;
     counts.vf_before += o.vf_before;
     counts.ee_before += o.ee_before;
   }

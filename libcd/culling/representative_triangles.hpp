@@ -40,16 +40,34 @@ RepresentativeTriangles assign_representative_triangles(const Scene& scene);
 
 /// Counts of the feature stage.
 struct FeatureCounts {
+  std::size_t separated = 0;  ///< triangle pairs kept apart over the step (TriangleSeparation): no features
   std::size_t vf_before = 0, vf_after = 0;  ///< VF pairs produced / left after BV culling
   std::size_t ee_before = 0, ee_after = 0;  ///< EE pairs produced / left after BV culling
 };
 
+/// The step a triangle pair is tested over before its features are made:
+/// a pair that triangles_separated (narrow_phase/ccd_separating_direction.hpp)
+/// proves more than `thickness` apart over the whole step yields no feature
+/// pairs, since each of its features lies in its triangle. The same struct
+/// carries host positions to the CPU stage and device positions to the GPU's.
+struct TriangleSeparation {
+  const Vec3* x_t0 = nullptr;  ///< #V positions at the start and end of the step
+  const Vec3* x_t1 = nullptr;
+  double thickness = 0;  ///< the broad phase's (>= 0, scene units)
+};
+
 /// Feature pairs of the given (unique) triangle pairs, culled by the swept
-/// DOPs of vertex against face and edge against edge. Outputs are sorted and
-/// unique. Runs in parallel; the result does not depend on the thread count.
+/// DOPs of vertex against face and edge against edge; with `separation`,
+/// the triangle pairs it proves apart are left out first (counts.separated)
+/// and the before-culling counts are those of the pairs left. Outputs are
+/// sorted and unique. Runs in parallel; the result does not depend on the
+/// thread count.
 void representative_feature_pairs(const Scene& scene, const RepresentativeTriangles& reps,
                                   const PrimitiveBounds& bounds, const std::vector<TrianglePair>& triangle_pairs,
                                   std::vector<VertexFaceCandidate>& vf, std::vector<EdgeEdgeCandidate>& ee,
-                                  FeatureCounts& counts);
+                                  FeatureCounts& counts, const TriangleSeparation* separation = nullptr);
+
+/// Whether `separation` proves triangles a and b apart over its step.
+bool triangle_pair_separated(const Scene& scene, const TriangleSeparation& separation, Index a, Index b);
 
 }  // namespace snag

@@ -48,12 +48,27 @@
 // at both ends; for two edges, the in-plane normals of each edge in the plane
 // the two edges span, at both ends, and that plane's normal for a thickness
 // above 0. A degenerate feature gives zero directions, which never separate.
+//
+// Two whole triangles (triangles_separated): each triangle is the convex hull
+// of its three corners, and every vertex, edge and face of it lies in that
+// hull, so a direction that keeps the two hulls apart over the step keeps
+// every feature pair of the two triangles apart: the 6 vertex-face and 9
+// edge-edge pairs of a triangle pair are decided at once. The directions are
+// each triangle's normal and the in-plane normals of its edges at t = 0, then
+// each normal at t = 1. Most triangle pairs of a folding cloth whose swept
+// DOPs overlap are kept apart by one of them: layers apart along a normal,
+// neighbours in one sheet across an edge (on the refined cloth_ball ×4 they
+// decide 79% of the triangle pairs, and 84% of the feature pairs the DOPs
+// kept are no longer made; on cloth_ball 64% of the triangle pairs).
+// Unlike the feature pairs' exits these run before any input is checked, so
+// they check the range themselves: out of it, nothing is decided.
 #pragma once
 
 #include <math.h>
 
 #include "libcd/core/host_device.hpp"
 #include "libcd/geometry/vec3.hpp"
+#include "libcd/narrow_phase/ccd_inclusion.hpp"
 
 namespace snag {
 namespace ccd_detail {
@@ -64,24 +79,62 @@ constexpr double kSeparationUnderflowSlack = 1e-300;
 /// Makes the thickness margin an upper bound of d |s|_2 (step 2).
 constexpr double kSeparationMarginFactor = 1 + 1e-15;
 
+/// The thickness margin of direction s (see the file comment, step 2).
+SNAG_HD_INLINE double separation_margin(const Vec3& s, double d) {
+  return d * (fabs(s.x) + fabs(s.y) + fabs(s.z)) * kSeparationMarginFactor;
+}
+
+/// +1 when s . diff > d |s| is certain, -1 when s . diff < -d |s| is, else
+/// 0; diff is a computed difference y - x, margin separation_margin(s, d)
+/// (see the file comment, steps 1 and 3).
+SNAG_HD_INLINE int separation_sign(const Vec3& s, const Vec3& diff, double margin) {
+  const double h = dot(s, diff);
+  const double a = fabs(s.x) * fabs(diff.x) + fabs(s.y) * fabs(diff.y) + fabs(s.z) * fabs(diff.z);
+  const double bound = margin + (kSeparationErrorFactor * a + kSeparationUnderflowSlack);
+  return h > bound ? 1 : (h < -bound ? -1 : 0);
+}
+
 /// True when s . diff[i] > d |s| for all i < count, or s . diff[i] < -d |s|
 /// for all: the points whose differences these are lie strictly apart along s.
 /// diff[i] are the computed differences y - x (see the file comment).
 SNAG_HD_INLINE bool separates(const Vec3& s, const Vec3* diff, int count, double d) {
-  const double margin = d * (fabs(s.x) + fabs(s.y) + fabs(s.z)) * kSeparationMarginFactor;
+  const double margin = separation_margin(s, d);
   int sign = 0;
 #if defined(__CUDA_ARCH__) && defined(SNAG_CCD_UNROLL_SEPARATION)
 #pragma unroll
 #endif
   for (int i = 0; i < count; ++i) {
-    const double h = dot(s, diff[i]);
-    const double a = fabs(s.x) * fabs(diff[i].x) + fabs(s.y) * fabs(diff[i].y) + fabs(s.z) * fabs(diff[i].z);
-    const double bound = margin + (kSeparationErrorFactor * a + kSeparationUnderflowSlack);
-    const int this_sign = h > bound ? 1 : (h < -bound ? -1 : 0);
+    const int this_sign = separation_sign(s, diff[i], margin);
     if (this_sign == 0 || (sign != 0 && this_sign != sign)) return false;
     sign = this_sign;
   }
   return true;
+}
+
+/// Carries separates() over the differences b[j] - a[i] of one end of the
+/// step: false when one of them has no certain sign or not `sign`'s (set by
+/// the first when it is 0).
+SNAG_HD_INLINE bool corners_keep_sign(const Vec3& s, const Vec3 a[3], const Vec3 b[3], double margin, int& sign) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const int this_sign = separation_sign(s, b[j] - a[i], margin);
+      if (this_sign == 0 || (sign != 0 && this_sign != sign)) return false;
+      sign = this_sign;
+    }
+  }
+  return true;
+}
+
+/// separates() for the differences of every corner of triangle B from every
+/// corner of triangle A, at t0 and at t1, each taken where it is used (the
+/// 18 differences held at once cost the GPU more registers than the 12
+/// corners): the two triangles' corners lie strictly apart along s at both
+/// ends.
+SNAG_HD_INLINE bool separates_corners(const Vec3& s, const Vec3 a_t0[3], const Vec3 a_t1[3], const Vec3 b_t0[3],
+                                      const Vec3 b_t1[3], double d) {
+  const double margin = separation_margin(s, d);
+  int sign = 0;
+  return corners_keep_sign(s, a_t0, b_t0, margin, sign) && corners_keep_sign(s, a_t1, b_t1, margin, sign);
 }
 
 }  // namespace ccd_detail
@@ -138,6 +191,40 @@ SNAG_HD_INLINE bool edge_edge_separated(const Vec3& ea0_t0, const Vec3& ea1_t0, 
     if (thickness > 0 && separates(n, diff, 8, thickness)) return true;
   }
   return false;
+}
+
+/// True when some fixed direction provably keeps triangle A (corners a_t0[i]
+/// moving linearly to a_t1[i]) strictly more than `thickness` (scene units)
+/// away from triangle B for every t in [0, 1] (see the file comment, "Two
+/// whole triangles"); then no feature of A touches a feature of B over the
+/// step. False for inputs out of range (a coordinate not finite or above
+/// ccd_detail::kMaxMagnitude, a thickness outside [0, kMaxMagnitude]), for
+/// triangles that share a corner, and for degenerate ones whose directions
+/// are zero. Never throws.
+SNAG_HD_INLINE bool triangles_separated(const Vec3 a_t0[3], const Vec3 a_t1[3], const Vec3 b_t0[3],
+                                        const Vec3 b_t1[3], double thickness) {
+  using ccd_detail::kMaxMagnitude;
+  if (!(thickness >= 0 && thickness <= kMaxMagnitude)) return false;
+  const Vec3* corners[4] = {a_t0, a_t1, b_t0, b_t1};
+  for (int c = 0; c < 4; ++c) {
+    for (int i = 0; i < 3; ++i) {
+      if (!(fabs(corners[c][i].x) <= kMaxMagnitude && fabs(corners[c][i].y) <= kMaxMagnitude &&
+            fabs(corners[c][i].z) <= kMaxMagnitude))
+        return false;
+    }
+  }
+  const Vec3 na = cross(a_t0[1] - a_t0[0], a_t0[2] - a_t0[0]);
+  const Vec3 nb = cross(b_t0[1] - b_t0[0], b_t0[2] - b_t0[0]);
+  auto apart_along = [&](const Vec3& s) { return ccd_detail::separates_corners(s, a_t0, a_t1, b_t0, b_t1, thickness); };
+  if (apart_along(na) || apart_along(nb)) return true;
+  for (int i = 0; i < 3; ++i) {
+    if (apart_along(cross(a_t0[i == 2 ? 0 : i + 1] - a_t0[i], na))) return true;
+  }
+  for (int i = 0; i < 3; ++i) {
+    if (apart_along(cross(b_t0[i == 2 ? 0 : i + 1] - b_t0[i], nb))) return true;
+  }
+  return apart_along(cross(a_t1[1] - a_t1[0], a_t1[2] - a_t1[0])) ||
+         apart_along(cross(b_t1[1] - b_t1[0], b_t1[2] - b_t1[0]));
 }
 
 }  // namespace snag

@@ -44,6 +44,7 @@ void add_broad(BroadPhaseStats& total, const BroadPhaseStats& s) {
       &BroadPhaseStats::fallback_tests, &BroadPhaseStats::tests_after_control_bits,
       &BroadPhaseStats::duplicate_root_pair_tests, &BroadPhaseStats::duplicate_culled_tests,
       &BroadPhaseStats::culled_by_dop, &BroadPhaseStats::triangle_pairs, &BroadPhaseStats::left_out_apart,
+      &BroadPhaseStats::separated_triangle_pairs,
       &BroadPhaseStats::vf_before_culling, &BroadPhaseStats::vf_after_culling, &BroadPhaseStats::ee_before_culling,
       &BroadPhaseStats::ee_after_culling, &BroadPhaseStats::candidates};
   for (auto field : counters) total.*field += s.*field;

@@ -114,6 +114,7 @@ void expect_same_counts(const BroadPhaseStats& cpu, const BroadPhaseStats& gpu) 
   EXPECT_EQ(cpu.duplicate_culled_tests, gpu.duplicate_culled_tests);
   EXPECT_EQ(cpu.culled_by_dop, gpu.culled_by_dop);
   EXPECT_EQ(cpu.triangle_pairs, gpu.triangle_pairs);
+  EXPECT_EQ(cpu.separated_triangle_pairs, gpu.separated_triangle_pairs);
   EXPECT_EQ(cpu.vf_before_culling, gpu.vf_before_culling);
   EXPECT_EQ(cpu.vf_after_culling, gpu.vf_after_culling);
   EXPECT_EQ(cpu.ee_before_culling, gpu.ee_before_culling);
@@ -228,6 +229,34 @@ TEST_F(CudaBroadPhaseTest, MatchesCpuWithFastMoversAndTimeHalving) {
     expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kLargestTriangleGrid, {});
     EXPECT_GT(expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1, BroadPhaseMethod::kAdaptiveGrid, {}), 0u);
   }
+}
+
+// The triangle pairs' separation (BroadPhaseSettings::separate_triangles):
+// on and off the GPU's candidates and counts are the CPU's, and on they are
+// those of off less the feature pairs of the pairs it proves apart.
+TEST_F(CudaBroadPhaseTest, MatchesCpuWithAndWithoutTheTriangleSeparation) {
+  const Soup soup = random_soup(13, 4000, true);
+  BroadPhaseSettings off;
+  off.separate_triangles = false;
+  const std::size_t with = expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1,
+                                                 BroadPhaseMethod::kVirtualSubdivisionGrid, {});
+  const std::size_t without = expect_gpu_equals_cpu(soup.scene, soup.x_t0, soup.x_t1,
+                                                    BroadPhaseMethod::kVirtualSubdivisionGrid, off);
+  EXPECT_GT(with, 0u);
+  EXPECT_LT(with, without);
+  const auto gpu = make_cuda_broad_phase(BroadPhaseMethod::kVirtualSubdivisionGrid);
+  gpu->build(soup.scene, {});
+  std::vector<VertexFaceCandidate> vf;
+  std::vector<EdgeEdgeCandidate> ee;
+  gpu->detect_ccd(soup.x_t0, soup.x_t1, vf, ee);
+  EXPECT_GT(gpu->stats().separated_triangle_pairs, 0u);
+  gpu->build(soup.scene, off);
+  std::vector<VertexFaceCandidate> vf_off;
+  std::vector<EdgeEdgeCandidate> ee_off;
+  gpu->detect_ccd(soup.x_t0, soup.x_t1, vf_off, ee_off);
+  EXPECT_EQ(gpu->stats().separated_triangle_pairs, 0u);
+  EXPECT_TRUE(std::includes(vf_off.begin(), vf_off.end(), vf.begin(), vf.end()));
+  EXPECT_TRUE(std::includes(ee_off.begin(), ee_off.end(), ee.begin(), ee.end()));
 }
 
 // One broad phase over steps of one scene: each step's subdivision runs in

@@ -65,6 +65,7 @@ void expect_same_counts(const BroadPhaseStats& one, const BroadPhaseStats& chunk
   EXPECT_EQ(one.culled_by_dop, chunked.culled_by_dop) << where;
   EXPECT_EQ(one.duplicate_root_pair_tests, chunked.duplicate_root_pair_tests) << where;
   EXPECT_EQ(one.triangle_pairs, chunked.triangle_pairs) << where;
+  EXPECT_EQ(one.separated_triangle_pairs, chunked.separated_triangle_pairs) << where;
   EXPECT_EQ(one.vf_before_culling, chunked.vf_before_culling) << where;
   EXPECT_EQ(one.ee_before_culling, chunked.ee_before_culling) << where;
   EXPECT_EQ(one.candidates, chunked.candidates) << where;

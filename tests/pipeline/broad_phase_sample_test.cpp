@@ -104,13 +104,18 @@ TEST_P(CacheBroadPhase, StaticVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryIn
   EXPECT_GT(intersecting_frames, 0u);  // the frames were picked for their intersections too
 }
 
+// The brute force here keeps every feature pair whose DOPs overlap, the
+// triangle pairs proved apart included (separate_triangles off), so that a
+// colliding pair the VSS grid's separation dropped would show.
 TEST_P(CacheBroadPhase, CcdVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryCollision) {
   auto source = open_cloth_body_cache(GetParam().dir);
   const Scene& scene = source->scene();
   VirtualSubdivisionGrid vss(true);
   BruteForceBroadPhase brute;
   vss.build(scene, two_threads());
-  brute.build(scene, two_threads());
+  BroadPhaseSettings unseparated = two_threads();
+  unseparated.separate_triangles = false;
+  brute.build(scene, unseparated);
   const RepresentativeTriangles reps = assign_representative_triangles(scene);
   for (std::size_t step : GetParam().ccd_steps) {
     SCOPED_TRACE("step " + std::to_string(step));
@@ -121,7 +126,10 @@ TEST_P(CacheBroadPhase, CcdVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryColli
     brute.detect_ccd(x_t0, x_t1, vf_root, ee_root);
     const std::vector<TrianglePair> leaf_pairs = brute_force_leaf_triangle_pairs(vss.leaves(), vss.bounds().triangles);
     FeatureCounts counts;
-    representative_feature_pairs(scene, reps, vss.bounds(), leaf_pairs, vf_leaf, ee_leaf, counts);
+    const TriangleSeparation separation{x_t0.data(), x_t1.data(), 0};
+    representative_feature_pairs(scene, reps, vss.bounds(), leaf_pairs, vf_leaf, ee_leaf, counts, &separation);
+    EXPECT_GT(vss.stats().separated_triangle_pairs, 0u);
+    EXPECT_EQ(brute.stats().separated_triangle_pairs, 0u);
 
     EXPECT_TRUE(sorted_unique(vf_vss));
     EXPECT_TRUE(sorted_unique(ee_vss));
@@ -153,7 +161,8 @@ TEST_P(CacheBroadPhase, CcdVssLiesBetweenLeafAndRootBruteForceAndKeepsEveryColli
     EXPECT_GT(vf_colliding + ee_colliding, 0u);  // the steps were picked for their collisions
     std::cout << "[ step " << step << " ] VF leaf/vss/root " << vf_leaf.size() << "/" << vf_vss.size() << "/"
               << vf_root.size() << "  EE " << ee_leaf.size() << "/" << ee_vss.size() << "/" << ee_root.size()
-              << "  colliding VF " << vf_colliding << " EE " << ee_colliding << "\n";
+              << "  colliding VF " << vf_colliding << " EE " << ee_colliding << "  triangle pairs "
+              << vss.stats().triangle_pairs << ", separated " << vss.stats().separated_triangle_pairs << "\n";
   }
 }
 

@@ -34,6 +34,7 @@ json broad_json(const BroadPhaseStats& s) {
           {"duplicate_culled_tests", s.duplicate_culled_tests},
           {"culled_by_dop", s.culled_by_dop},
           {"triangle_pairs", s.triangle_pairs},
+          {"separated_triangle_pairs", s.separated_triangle_pairs},
           {"vf_before_culling", s.vf_before_culling},
           {"vf_after_culling", s.vf_after_culling},
           {"ee_before_culling", s.ee_before_culling},

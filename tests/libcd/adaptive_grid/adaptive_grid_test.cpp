@@ -133,9 +133,11 @@ void expect_adaptive_equals_leaf_oracle(const Step& step, const BroadPhaseSettin
   std::vector<EdgeEdgeCandidate> ee, leaf_ee;
   adaptive.detect_ccd(step.x_t0, step.x_t1, vf, ee);
   FeatureCounts counts;
+  const TriangleSeparation separation{step.x_t0.data(), step.x_t1.data(), settings.thickness};
   representative_feature_pairs(step.scene, assign_representative_triangles(step.scene), adaptive.bounds(),
                                brute_force_leaf_triangle_pairs(adaptive.leaves(), adaptive.bounds().triangles),
-                               leaf_vf, leaf_ee, counts);
+                               leaf_vf, leaf_ee, counts, &separation);
+  EXPECT_EQ(adaptive.stats().separated_triangle_pairs, counts.separated) << what;
   EXPECT_TRUE(vf == leaf_vf) << what << ": CCD VF " << vf.size() << ", oracle " << leaf_vf.size();
   EXPECT_TRUE(ee == leaf_ee) << what << ": CCD EE " << ee.size() << ", oracle " << leaf_ee.size();
   EXPECT_GT(vf.size() + ee.size(), 0u) << what;

@@ -1,8 +1,10 @@
 // The early exits of the CCD kernels. coplanarity_keeps_sign (thickness 0)
 // fires on pairs that stay off each other's plane; vertex_face_separated and
-// edge_edge_separated on pairs that a fixed direction keeps apart. Neither
-// fires on contacts at t = 0, at t = 1, inside the step, nor (the cubic) on
-// coplanar or degenerate pairs.
+// edge_edge_separated on pairs that a fixed direction keeps apart, and
+// triangles_separated on whole triangle pairs so kept apart. None fires on
+// contacts at t = 0, at t = 1, inside the step, nor (the cubic) on coplanar
+// or degenerate pairs; where triangles_separated fires, no feature pair of
+// the two triangles touches.
 // Random contacts are built exactly (small integers, dyadic times and
 // parameters) so that the ground truth is known without rounding.
 #include "libcd/narrow_phase/ccd_coplanarity_filter.hpp"
@@ -10,6 +12,9 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
+#include <iostream>
+#include <limits>
 #include <random>
 
 #include "libcd/narrow_phase/ccd_separating_direction.hpp"
@@ -227,6 +232,152 @@ TEST(CoplanarityFilter, NeverRejectsAnEdgeEdgeContactBuiltExactly) {
     ASSERT_FALSE(edge_edge_apart(x, 0.5)) << "case " << i;
     ASSERT_NE(edge_edge(x).answer, CcdAnswer::kNo) << "case " << i;
   }
+}
+
+// --- two whole triangles -------------------------------------------------------
+
+// A triangle's corners at the start and end of the step.
+struct MovingTriangle {
+  Vec3 t0[3], t1[3];
+};
+
+// Corners a, b, c moving by `by` over the step.
+MovingTriangle moving(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& by) {
+  return {{a, b, c}, {a + by, b + by, c + by}};
+}
+
+bool apart(const MovingTriangle& a, const MovingTriangle& b, double thickness) {
+  return triangles_separated(a.t0, a.t1, b.t0, b.t1, thickness);
+}
+
+// The points of vertex i of `from` against face `to`, as vertex_face() takes them.
+Points vertex_against_face(const MovingTriangle& from, int i, const MovingTriangle& to) {
+  return {from.t0[i], to.t0[0], to.t0[1], to.t0[2], from.t1[i], to.t1[0], to.t1[1], to.t1[2]};
+}
+// The points of edge i of a (corners i, i + 1) against edge j of b.
+Points edge_against_edge(const MovingTriangle& a, int i, const MovingTriangle& b, int j) {
+  const int i1 = (i + 1) % 3, j1 = (j + 1) % 3;
+  return {a.t0[i], a.t0[i1], b.t0[j], b.t0[j1], a.t1[i], a.t1[i1], b.t1[j], b.t1[j1]};
+}
+
+TEST(TriangleSeparation, FiresOnLayersMovingTogetherAlongTheirNormal) {
+  // Two layers 0.1 apart in z, both moving 3 along x: their swept boxes meet.
+  const Vec3 by{3, 0, 0};
+  const MovingTriangle a = moving({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, by);
+  const MovingTriangle b = moving({0, 0, 0.1}, {1, 0, 0.1}, {0, 1, 0.1}, by);
+  EXPECT_TRUE(apart(a, b, 0));
+  EXPECT_TRUE(apart(b, a, 0));
+  EXPECT_TRUE(apart(a, b, 0.05));
+  EXPECT_FALSE(apart(a, b, 0.2));  // the layers are within the thickness
+}
+
+TEST(TriangleSeparation, FiresOnNeighboursInOneSheetAcrossAnEdge) {
+  // Coplanar, 0.1 / sqrt(2) apart across a's long edge, both falling 2 in z:
+  // their normals do not separate them, an edge's in-plane normal does.
+  const Vec3 by{0, 0, -2};
+  const MovingTriangle a = moving({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, by);
+  const MovingTriangle b = moving({1.05, 0.05, 0}, {1.05, 1.05, 0}, {0.05, 1.05, 0}, by);
+  EXPECT_TRUE(apart(a, b, 0));
+  EXPECT_TRUE(apart(b, a, 0));
+  // The margin is the thickness times |s|_1 (the file comment, step 2),
+  // sqrt(2) |s| along this edge's normal: 0.03 is well inside the gap.
+  EXPECT_TRUE(apart(a, b, 0.03));
+  EXPECT_FALSE(apart(a, b, 0.1));
+}
+
+TEST(TriangleSeparation, DoesNotFireOnTrianglesThatMeetInTheStep) {
+  // b's corner (0.2, 0.2) passes through a's face at t = 0.5.
+  const MovingTriangle a = moving({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0});
+  const MovingTriangle b = moving({0.2, 0.2, 1}, {0.3, 0.2, 2}, {0.2, 0.3, 2}, {0, 0, -2});
+  EXPECT_FALSE(apart(a, b, 0));
+  EXPECT_FALSE(apart(b, a, 0));
+  EXPECT_FALSE(apart(a, b, 0.5));
+}
+
+TEST(TriangleSeparation, DoesNotFireOnASharedCornerDegenerateTrianglesOrInputsOutOfRange) {
+  const Vec3 by{3, 0, 0};
+  const MovingTriangle a = moving({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, by);
+  EXPECT_FALSE(apart(a, moving({0, 0, 0}, {-1, 0, 0}, {0, -1, 0}, by), 0));  // only the corner in common
+  // Two segments far apart: every direction tried is zero.
+  EXPECT_FALSE(apart(moving({0, 0, 0}, {1, 0, 0}, {2, 0, 0}, by), moving({0, 0, 5}, {1, 0, 5}, {2, 0, 5}, by), 0));
+  const MovingTriangle b = moving({0, 0, 0.1}, {1, 0, 0.1}, {0, 1, 0.1}, by);
+  ASSERT_TRUE(apart(a, b, 0));
+  for (const double bad : {1e61, -1e61, std::numeric_limits<double>::infinity(), std::nan("")}) {
+    MovingTriangle far = b;
+    far.t1[2].y = bad;
+    EXPECT_FALSE(apart(a, far, 0)) << bad;
+    EXPECT_FALSE(apart(far, a, 0)) << bad;
+  }
+  EXPECT_FALSE(apart(a, b, -1));
+  EXPECT_FALSE(apart(a, b, std::nan("")));
+  EXPECT_FALSE(apart(a, b, 1e61));
+}
+
+TEST(TriangleSeparation, NeverFiresOnAContactBuiltExactly) {
+  std::mt19937_64 rng(33);
+  std::uniform_int_distribution<int> sixteenth(0, 16), corner(0, 2), ratio(0, 8);
+  for (int i = 0; i < 20000; ++i) {
+    MovingTriangle a, b;
+    for (int k = 0; k < 3; ++k) {
+      a.t0[k] = integer_point(rng);
+      a.t1[k] = integer_point(rng);
+      b.t0[k] = integer_point(rng);
+      b.t1[k] = integer_point(rng);
+    }
+    const double t = dyadic_time(rng);
+    const Vec3 a0 = test::at(a.t0[0], a.t1[0], t), a1 = test::at(a.t0[1], a.t1[1], t),
+               a2 = test::at(a.t0[2], a.t1[2], t);
+    const int k = corner(rng);
+    if (i % 2 == 0) {  // a corner of b on a's face
+      int u = sixteenth(rng), v = sixteenth(rng);
+      if (u + v > 16) u = 16 - u, v = 16 - v;
+      pass_through(b.t0[k], b.t1[k], ((16 - u - v) / 16.0) * a0 + (u / 16.0) * a1 + (v / 16.0) * a2, t);
+    } else {  // b's edge (k, k + 1) through a point of a's edge (0, 1)
+      const double along = sixteenth(rng) / 16.0;
+      const Vec3 touch = (1 - along) * a0 + along * a1;
+      const Vec3 from = test::at(b.t0[k], b.t1[k], t);
+      const int k1 = (k + 1) % 3;
+      pass_through(b.t0[k1], b.t1[k1], touch + (ratio(rng) / 4.0) * (touch - from), t);
+    }
+    ASSERT_FALSE(apart(a, b, 0)) << "case " << i;
+    ASSERT_FALSE(apart(b, a, 0)) << "case " << i;
+    ASSERT_FALSE(apart(a, b, 0.5)) << "case " << i;
+  }
+}
+
+TEST(TriangleSeparation, NoFeaturePairTouchesWhereItFires) {
+  // Random small triangles moving a little, crowded so that many pairs come
+  // close: wherever the triangles are proved apart, the CCD of each of their
+  // 6 vertex-face and 9 edge-edge pairs never answers kYes.
+  std::mt19937_64 rng(34);
+  std::size_t fired = 0, touching = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const double thickness = i % 4 == 3 ? 0.05 : 0;
+    MovingTriangle tri[2];
+    const Vec3 common_centre = test::random_point(rng, 1), common_velocity = test::random_point(rng, 1);
+    for (MovingTriangle& m : tri) {
+      const Vec3 centre = common_centre + test::random_point(rng, 0.5),
+                 velocity = common_velocity + test::random_point(rng, 0.3);
+      for (int k = 0; k < 3; ++k) {
+        m.t0[k] = centre + test::random_point(rng, 0.6);
+        m.t1[k] = m.t0[k] + velocity + test::random_point(rng, 0.1);
+      }
+    }
+    const bool separated = apart(tri[0], tri[1], thickness);
+    fired += separated;
+    bool any_yes = false;
+    for (int s = 0; s < 2; ++s)
+      for (int k = 0; k < 3; ++k)
+        any_yes |= vertex_face(vertex_against_face(tri[s], k, tri[1 - s]), thickness).answer == CcdAnswer::kYes;
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        any_yes |= edge_edge(edge_against_edge(tri[0], k, tri[1], j), thickness).answer == CcdAnswer::kYes;
+    touching += any_yes;
+    ASSERT_FALSE(separated && any_yes) << "case " << i;
+  }
+  std::cout << "fired " << fired << ", touching " << touching << "\n";
+  EXPECT_GT(fired, 1000u);    // the test fires on many pairs,
+  EXPECT_GT(touching, 300u);  // and many others touch
 }
 
 }  // namespace
