@@ -213,18 +213,36 @@ SNAG_HD_INLINE bool triangles_separated(const Vec3 a_t0[3], const Vec3 a_t1[3], 
         return false;
     }
   }
+  // A corner the two triangles share (a vertex of both, in a mesh the
+  // commonest reason no direction separates them) is a zero difference,
+  // which no direction separates: the answer without trying them.
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (a_t0[i] == b_t0[j] && a_t1[i] == b_t1[j]) return false;
+    }
+  }
   const Vec3 na = cross(a_t0[1] - a_t0[0], a_t0[2] - a_t0[0]);
   const Vec3 nb = cross(b_t0[1] - b_t0[0], b_t0[2] - b_t0[0]);
-  auto apart_along = [&](const Vec3& s) { return ccd_detail::separates_corners(s, a_t0, a_t1, b_t0, b_t1, thickness); };
-  if (apart_along(na) || apart_along(nb)) return true;
-  for (int i = 0; i < 3; ++i) {
-    if (apart_along(cross(a_t0[i == 2 ? 0 : i + 1] - a_t0[i], na))) return true;
+  // Direction k: 0 and 1 the normals at t0, 2 to 4 the in-plane normals of
+  // a's edges and 5 to 7 of b's, 8 and 9 the normals at t1. One call site
+  // of separates_corners keeps the function small enough to be inlined
+  // whole, with its vector products, on the host.
+  for (int k = 0; k < 10; ++k) {
+    Vec3 s;
+    if (k < 2) {
+      s = k == 0 ? na : nb;
+    } else if (k < 8) {
+      const bool of_a = k < 5;
+      const Vec3* corner = of_a ? a_t0 : b_t0;
+      const int i = of_a ? k - 2 : k - 5;
+      s = cross(corner[i == 2 ? 0 : i + 1] - corner[i], of_a ? na : nb);
+    } else {
+      const Vec3* corner = k == 8 ? a_t1 : b_t1;
+      s = cross(corner[1] - corner[0], corner[2] - corner[0]);
+    }
+    if (ccd_detail::separates_corners(s, a_t0, a_t1, b_t0, b_t1, thickness)) return true;
   }
-  for (int i = 0; i < 3; ++i) {
-    if (apart_along(cross(b_t0[i == 2 ? 0 : i + 1] - b_t0[i], nb))) return true;
-  }
-  return apart_along(cross(a_t1[1] - a_t1[0], a_t1[2] - a_t1[0])) ||
-         apart_along(cross(b_t1[1] - b_t1[0], b_t1[2] - b_t1[0]));
+  return false;
 }
 
 }  // namespace snag
