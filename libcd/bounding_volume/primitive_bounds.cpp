@@ -10,8 +10,14 @@ namespace snag {
 
 PrimitiveBounds compute_primitive_bounds(const Scene& scene, const std::vector<Vec3>& x_t0,
                                          const std::vector<Vec3>& x_t1, double thickness) {
-  assert(x_t0.size() == scene.vertex_count() && x_t1.size() == scene.vertex_count());
   PrimitiveBounds out;
+  compute_primitive_bounds(scene, x_t0, x_t1, thickness, out);
+  return out;
+}
+
+void compute_primitive_bounds(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                              double thickness, PrimitiveBounds& out) {
+  assert(x_t0.size() == scene.vertex_count() && x_t1.size() == scene.vertex_count());
   const auto& tris = scene.triangles();
   const auto& edges = scene.edges();
   out.triangles.resize(tris.size());
@@ -64,7 +70,6 @@ PrimitiveBounds compute_primitive_bounds(const Scene& scene, const std::vector<V
     out.scene_lo = box.lo - Vec3{w, w, w};
     out.scene_hi = box.hi + Vec3{w, w, w};
   }
-  return out;
 }
 
 }  // namespace snag

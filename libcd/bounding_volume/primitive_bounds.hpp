@@ -64,4 +64,12 @@ struct PrimitiveBounds {
 PrimitiveBounds compute_primitive_bounds(const Scene& scene, const std::vector<Vec3>& x_t0,
                                          const std::vector<Vec3>& x_t1, double thickness);
 
+/// compute_primitive_bounds into `out`, whose arrays are reused: a broad
+/// phase that keeps its bounds from step to step writes into memory it has
+/// already touched, where arrays made anew each step can come fresh from the
+/// system every time, to be faulted in page by page (on the cloth_funnel
+/// cache that was a third of the CPU's broad phase).
+void compute_primitive_bounds(const Scene& scene, const std::vector<Vec3>& x_t0, const std::vector<Vec3>& x_t1,
+                              double thickness, PrimitiveBounds& out);
+
 }  // namespace snag

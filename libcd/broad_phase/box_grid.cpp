@@ -518,7 +518,7 @@ void BoxGridBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const std::vec
   run_with_threads(*arena_, [&] {
     stats_ = BroadPhaseStats{};
     const auto start = Clock::now();
-    bounds_ = compute_primitive_bounds(*scene_, x_t0, x_t1, settings_.thickness);
+    compute_primitive_bounds(*scene_, x_t0, x_t1, settings_.thickness, bounds_);
     dops_ = &bounds_.triangles;
     stats_.seconds_bounds = seconds_since(start);
     const auto registration_start = Clock::now();

@@ -135,7 +135,7 @@ void SweepAndPruneBroadPhase::detect_ccd(const std::vector<Vec3>& x_t0, const st
   arena_->execute([&] {
     stats_ = BroadPhaseStats{};
     const auto start = Clock::now();
-    bounds_ = compute_primitive_bounds(*scene_, x_t0, x_t1, settings_.thickness);
+    compute_primitive_bounds(*scene_, x_t0, x_t1, settings_.thickness, bounds_);
     stats_.seconds_bounds = seconds_since(start);
     const auto sort_start = Clock::now();
     sort_boxes(bounds_.triangles, {});

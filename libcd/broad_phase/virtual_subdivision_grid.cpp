@@ -318,7 +318,7 @@ std::vector<TrianglePair> VirtualSubdivisionGrid::triangle_pairs(const std::vect
 
   // 1. Bounding volumes of triangles, edges and vertices.
   auto t = Clock::now();
-  bounds_ = compute_primitive_bounds(scene, x_t0, x_t1, settings_.thickness);
+  compute_primitive_bounds(scene, x_t0, x_t1, settings_.thickness, bounds_);
   root_boxes_.resize(bounds_.triangles.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, root_boxes_.size(), 4096), [&](const auto& range) {
     for (std::size_t f = range.begin(); f != range.end(); ++f) root_boxes_[f] = float_box_of(bounds_.triangles[f]);
