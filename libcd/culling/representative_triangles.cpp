@@ -61,8 +61,7 @@ namespace {
 
 bool is_corner(const Triangle& t, Index v) { return t[0] == v || t[1] == v || t[2] == v; }
 
-}  // namespace
-
+/// Whether `separation` proves triangles a and b apart over its step.
 bool triangle_pair_separated(const Scene& scene, const TriangleSeparation& separation, Index a, Index b) {
   const Triangle& ta = scene.triangles()[a];
   const Triangle& tb = scene.triangles()[b];
@@ -72,6 +71,8 @@ bool triangle_pair_separated(const Scene& scene, const TriangleSeparation& separ
   const Vec3 b_t1[3] = {separation.x_t1[tb[0]], separation.x_t1[tb[1]], separation.x_t1[tb[2]]};
   return triangles_separated(a_t0, a_t1, b_t0, b_t1, separation.thickness);
 }
+
+}  // namespace
 
 void representative_feature_pairs(const Scene& scene, const RepresentativeTriangles& reps,
                                   const PrimitiveBounds& bounds, const std::vector<TrianglePair>& triangle_pairs,

@@ -67,7 +67,4 @@ void representative_feature_pairs(const Scene& scene, const RepresentativeTriang
                                   std::vector<VertexFaceCandidate>& vf, std::vector<EdgeEdgeCandidate>& ee,
                                   FeatureCounts& counts, const TriangleSeparation* separation = nullptr);
 
-/// Whether `separation` proves triangles a and b apart over its step.
-bool triangle_pair_separated(const Scene& scene, const TriangleSeparation& separation, Index a, Index b);
-
 }  // namespace snag

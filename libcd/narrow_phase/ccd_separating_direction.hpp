@@ -224,9 +224,8 @@ SNAG_HD_INLINE bool triangles_separated(const Vec3 a_t0[3], const Vec3 a_t1[3], 
   const Vec3 na = cross(a_t0[1] - a_t0[0], a_t0[2] - a_t0[0]);
   const Vec3 nb = cross(b_t0[1] - b_t0[0], b_t0[2] - b_t0[0]);
   // Direction k: 0 and 1 the normals at t0, 2 to 4 the in-plane normals of
-  // a's edges and 5 to 7 of b's, 8 and 9 the normals at t1. One call site
-  // of separates_corners keeps the function small enough to be inlined
-  // whole, with its vector products, on the host.
+  // a's edges and 5 to 7 of b's, 8 and 9 the normals at t1: one loop, so
+  // that the test is written (and compiled) once.
   for (int k = 0; k < 10; ++k) {
     Vec3 s;
     if (k < 2) {
