@@ -46,7 +46,8 @@ Scenes (those whose files are missing are skipped, with a note):
                   (scripts/bake_cloth_cache.py --body funnel) from frame 33 on,
                   where it lies bunched layer on layer: a long cache of tight
                   contact. Read from --work/cloth_funnel, baked there first when
-                  `blender` is on the PATH (about a minute on 2 cores)
+                  `blender` is on the PATH (about a minute on 2 cores; the bake
+                  script needs numpy in Blender's Python: Debian's python3-numpy)
 
 --grids runs every scene with each grid named (snag-scan --grid: uniform, the
 adaptive grid whose crowded cells are split), side by side in one call.
