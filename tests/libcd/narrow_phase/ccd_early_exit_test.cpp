@@ -271,6 +271,25 @@ TEST(TriangleSeparation, FiresOnLayersMovingTogetherAlongTheirNormal) {
   EXPECT_FALSE(apart(a, b, 0.2));  // the layers are within the thickness
 }
 
+TEST(TriangleSeparation, FiresFarFromTheOriginAndNearTheEndOfTheRange) {
+  // The projection form's bound grows with the largest |coordinate| X (about
+  // 1e-15 X |s|_1; the file comment): layers 0.1 apart are still decided a
+  // million units out, and near the range's end when the gap grows with X.
+  const Vec3 by{3, 0, 0};
+  for (const double far : {1e6, -1e6}) {
+    const Vec3 o{far, far, far};
+    const MovingTriangle a = moving(o + Vec3{0, 0, 0}, o + Vec3{1, 0, 0}, o + Vec3{0, 1, 0}, by);
+    EXPECT_TRUE(apart(a, moving(o + Vec3{0, 0, 0.1}, o + Vec3{1, 0, 0.1}, o + Vec3{0, 1, 0.1}, by), 0)) << far;
+  }
+  const double big = 1e59;
+  const MovingTriangle a = moving({big, big, big}, {2 * big, big, big}, {big, 2 * big, big}, {big, 0, 0});
+  const MovingTriangle b =
+      moving({big, big, 1.1 * big}, {2 * big, big, 1.1 * big}, {big, 2 * big, 1.1 * big}, {big, 0, 0});
+  EXPECT_TRUE(apart(a, b, 0));
+  EXPECT_TRUE(apart(b, a, 0.05 * big));
+  EXPECT_FALSE(apart(a, b, 0.2 * big));
+}
+
 TEST(TriangleSeparation, FiresOnNeighboursInOneSheetAcrossAnEdge) {
   // Coplanar, 0.1 / sqrt(2) apart across a's long edge, both falling 2 in z:
   // their normals do not separate them, an edge's in-plane normal does.
