@@ -118,7 +118,7 @@ void CudaBroadPhase::upload_representatives() {
 
 void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
                                               FeatureRoom features,
-                                              const std::function<void(const TrianglePair*, std::size_t)>& visit) {
+                                              const std::function<void(TrianglePair*, std::size_t)>& visit) {
   const bool with_features = features.bytes_per_candidate > 0;
   const Scene& scene = *scene_;
   CudaBroadPhaseBuffers& b = *buffers_;
@@ -240,7 +240,7 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
   // 5. One test per thread; 6. sort + unique of root pairs, chunk by chunk.
   DeviceMemoryTracker::set_stage("broad phase: pairs");
   last_chunks_ = 0;
-  auto visit_chunk = [&](const TrianglePair* pairs, std::size_t count) {
+  auto visit_chunk = [&](TrianglePair* pairs, std::size_t count) {
     ++last_chunks_;
     visit(pairs, count);
     DeviceMemoryTracker::set_stage("broad phase: pairs");
@@ -279,7 +279,7 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
   // without counting (counted in every chunk, ×16 was 1-2% slower, H200).
   FeatureScreen feature_screen{d_x_t0, d_x_t1, screen != nullptr ? *screen : CcdSettings{}, screen_above};
   const TriangleSeparation separation{d_x_t0, d_x_t1, settings_.thickness};
-  triangle_pairs_on_device(d_x_t0, d_x_t1, stream, room, [&](const TrianglePair* pairs, std::size_t pair_count) {
+  triangle_pairs_on_device(d_x_t0, d_x_t1, stream, room, [&](TrianglePair* pairs, std::size_t pair_count) {
     if (last_chunks_ > 1) feature_screen.only_above = 0;
     DeviceMemoryTracker::set_stage("broad phase: features");
     CudaEvent features_start, features_done;
@@ -320,7 +320,7 @@ void CudaBroadPhase::detect_static_on_device(const Vec3* d_x, cudaStream_t strea
   const auto start = std::chrono::steady_clock::now();
   double visit_seconds = 0;
   last_parts_ = 0;
-  triangle_pairs_on_device(d_x, d_x, stream, FeatureRoom{}, [&](const TrianglePair* pairs, std::size_t pair_count) {
+  triangle_pairs_on_device(d_x, d_x, stream, FeatureRoom{}, [&](TrianglePair* pairs, std::size_t pair_count) {
     const auto visit_start = std::chrono::steady_clock::now();
     DeviceCandidates chunk;
     chunk.pairs = pairs;

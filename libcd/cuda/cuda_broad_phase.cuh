@@ -47,7 +47,9 @@ struct DeviceCandidates {
   std::size_t vf_count = 0;
   const EdgeEdgeCandidate* ee = nullptr;    ///< CCD only
   std::size_t ee_count = 0;
-  const TrianglePair* pairs = nullptr;      ///< unique triangle pairs (CCD and static)
+  /// Unique triangle pairs: static, all of them; CCD, those the feature
+  /// stage kept (the separation removes those it proves apart).
+  const TrianglePair* pairs = nullptr;
   std::size_t pair_count = 0;
   /// CCD with a screen (detect_ccd_on_device): the screen ran on this
   /// chunk, so vf and ee are what the CCD early exits leave undecided or out of range.
@@ -145,7 +147,7 @@ class CudaBroadPhase final : public BroadPhase {
   /// Bounds, subdivision, registration, then the pair tests chunk by chunk,
   /// each chunk's room shared with the feature stage as `features` says.
   void triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, FeatureRoom features,
-                                const std::function<void(const TrianglePair*, std::size_t)>& visit);
+                                const std::function<void(TrianglePair*, std::size_t)>& visit);
   /// Bytes of the buffers whose size the chunks bound.
   std::size_t chunk_bytes() const;
   /// Gives back the buffers whose size the chunks bound.

@@ -695,8 +695,7 @@ namespace {
 template <class Cells, class NumberRows>
 void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& number_rows, const Dop18* triangle_dops,
                     const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled, PairChunkPlan& plan,
-                    DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
-                    const std::function<void(const TrianglePair*, std::size_t)>& visit) {
+                    DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats, const PairChunkVisitor& visit) {
   if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
     throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
   const auto triangle_end = static_cast<std::uint32_t>(triangle_count);
@@ -885,7 +884,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
 void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
                                const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
                                PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
-                               const std::function<void(const TrianglePair*, std::size_t)>& visit) {
+                               const PairChunkVisitor& visit) {
   const std::size_t cells = lists.cells;
   const UniformTileCells source{lists.first.data(), lists.cell_ids.data(), p.registered.data(),
                                 p.tile_members.data(), p.tile_boxes.data(), grid};
@@ -902,8 +901,7 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
 void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const Dop18* triangle_dops,
                                         const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
                                         PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
-                                        BroadPhaseStats& stats,
-                                        const std::function<void(const TrianglePair*, std::size_t)>& visit) {
+                                        BroadPhaseStats& stats, const PairChunkVisitor& visit) {
   const std::size_t cells = tree.cell_count;
   const AdaptiveTileCells source{tree.cells.data(), tree.members.data(), tree.leaf_dops.data(), tree.depth};
   auto number_rows = [&](RootRange) {

@@ -97,6 +97,11 @@ struct PairChunkPlan {
   std::vector<RootRange> ranges;
 };
 
+/// Receives a chunk's unique triangle pairs (a device array, valid until it
+/// returns, which it may overwrite: the feature stage removes the separated
+/// pairs in place) and their count.
+using PairChunkVisitor = std::function<void(TrianglePair*, std::size_t)>;
+
 /// Copies the registered leaves into pairs.registered, cell by cell and each
 /// cell's by root triangle (stable; roots below triangle_count), with each
 /// one's UniformTileMember in the grid's cell it is registered in and its
@@ -126,7 +131,7 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
 void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
                                const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
                                PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream, BroadPhaseStats& stats,
-                               const std::function<void(const TrianglePair*, std::size_t)>& visit);
+                               const PairChunkVisitor& visit);
 
 /// As enumerate_pairs_on_device for the adaptive grid's test cells (from
 /// build_adaptive_cells_on_device): each cell tests the pairs with a stuck
@@ -137,6 +142,6 @@ void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const D
                                         const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
                                         PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
                                         BroadPhaseStats& stats,
-                                        const std::function<void(const TrianglePair*, std::size_t)>& visit);
+                                        const PairChunkVisitor& visit);
 
 }  // namespace snag

@@ -91,9 +91,7 @@ struct WaitingFeaturePair {
 /// Counts the feature pairs of triangle pair p < n before and after culling
 /// (tally[p]; tally[n] is zero; the sums of all pairs in counters[0] and [1]
 /// before, vertex-face and edge-edge, and with count_kept in [4] and [5]
-/// after) and records which the culling kept (kept[p]; a pair whose
-/// separated[p] is set, when separated is given, has none and reads nothing;
-/// separated may be kept itself, read before it is written;
+/// after) and records which the culling kept (kept[p];
 /// kept bit: vertex-face 3 s + i, edge-edge 6 + 3 i + j), so that
 /// write_kernel need not test them again:
 /// the CPU's loop body, one pair a thread. The DOPs' float boxes are tested
@@ -106,8 +104,7 @@ struct WaitingFeaturePair {
 /// Four blocks a multiprocessor (64 registers, a few spilled): on cloth_ball
 /// 345 µs, against 377 with the 84 registers it takes unbounded (H200).
 __global__ void __launch_bounds__(detail::kBlockSize, 4)
-    count_kernel(FeatureInputs in, std::size_t n, bool count_kept, const std::uint16_t* separated,
-                 FeatureTally* tally, std::uint16_t* kept, unsigned long long* counters) {
+    count_kernel(FeatureInputs in, std::size_t n, bool count_kept, FeatureTally* tally, std::uint16_t* kept, unsigned long long* counters) {
   __shared__ WaitingFeaturePair warp_waiting[detail::kBlockSize / 32][64];
   __shared__ unsigned warp_kept[detail::kBlockSize / 32][32];
   const unsigned lane = threadIdx.x & 31u;
@@ -137,16 +134,15 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
 
   const std::uint64_t p = thread_item();
   const bool in_range = p < n;
-  const bool valid = in_range && (separated == nullptr || separated[p] == 0);
   unsigned vf_before = 0, ee_before = 0;
   Index side[2] = {0, 0};
-  if (valid) {
+  if (in_range) {
     side[0] = in.pairs[p].a;
     side[1] = in.pairs[p].b;
   }
   const Triangle t[2] = {in.tris[side[0]], in.tris[side[1]]};
-  const std::uint8_t masks[2] = {valid ? in.masks[side[0]] : std::uint8_t{0},
-                                 valid ? in.masks[side[1]] : std::uint8_t{0}};
+  const std::uint8_t masks[2] = {in_range ? in.masks[side[0]] : std::uint8_t{0},
+                                 in_range ? in.masks[side[1]] : std::uint8_t{0}};
   // Each box and edge is read only where the masks ask for it: the kernel
   // is bound by its scattered reads.
 #pragma unroll
@@ -189,7 +185,7 @@ __global__ void __launch_bounds__(detail::kBlockSize, 4)
   __syncwarp();
   unsigned vf_kept = 0, ee_kept = 0;
   if (in_range) {
-    const unsigned bits = kept_bits[lane];  // none for a pair that is not valid: it pushed nothing
+    const unsigned bits = kept_bits[lane];
     vf_kept = static_cast<unsigned>(__popc(bits & 63u));
     ee_kept = static_cast<unsigned>(__popc(bits >> 6));
     kept[p] = static_cast<std::uint16_t>(bits);
@@ -397,7 +393,7 @@ const std::uint64_t* sort_keys(std::uint64_t* keys, std::uint64_t* spare, std::s
 
 void representative_feature_pairs_on_device(
     const DeviceTopology& topology, const DevicePrimitiveBounds& bounds, std::size_t vertex_count,
-    std::size_t edge_count, const TrianglePair* pairs, std::size_t n, std::size_t candidate_room, DeviceFeatures& f,
+    std::size_t edge_count, TrianglePair* pairs, std::size_t& n, std::size_t candidate_room, DeviceFeatures& f,
     cudaStream_t stream, FeatureCounts& counts,
     const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit,
     bool sorted, const FeatureScreen* screen, const TriangleSeparation* separation) {
@@ -416,18 +412,20 @@ void representative_feature_pairs_on_device(
                          bounds.edge_boxes.data(),
                          bounds.vertex_boxes.data(),
                          pairs};
-  f.tally.resize(n + 1);
   f.kept.resize(n);
-  f.counters.resize(7);
+  f.counters.resize(6);
+  if (separation != nullptr) {  // the separated pairs' flags go to kept first
+    const std::size_t left = remove_separated_pairs_on_device(*separation, topology.triangles.data(), pairs, n,
+                                                              f.kept.data(), f.counters.data(), f.temp, stream);
+    counts.separated += n - left;
+    n = left;
+    if (n == 0) return;
+  }
+  f.tally.resize(n + 1);
   f.counters.fill_zero();
-  // The separated pairs' flags go to kept, which count_kernel reads first.
-  if (separation != nullptr)
-    mark_separated_pairs_on_device(*separation, topology.triangles.data(), pairs, n, f.kept.data(),
-                                   f.counters.data() + 6, stream);
   const bool decide_screen = screen != nullptr && screen->only_above > 0;
-  count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(
-      in, n, decide_screen, separation != nullptr ? f.kept.data() : nullptr, f.tally.data(), f.kept.data(),
-      f.counters.data());
+  count_kernel<<<blocks_for(n + 1), detail::kBlockSize, 0, stream>>>(in, n, decide_screen, f.tally.data(),
+                                                                      f.kept.data(), f.counters.data());
   SNAG_CUDA_CHECK_LAUNCH();
   // Parts of consecutive pairs: a part starts where the candidates before it
   // reach a multiple of step, so it holds fewer than step + 15 <= room. One
@@ -441,12 +439,10 @@ void representative_feature_pairs_on_device(
   exclusive_scan(f.tally.data(), f.tally.data(), n + 1, AddFeatureTallies{}, f.temp, stream);
   FeatureTally total;
   // Before the DOPs, screened out, kept by the DOPs (vertex-face, edge-edge;
-  // the last two only where the screen decides whether it runs), and the
-  // separated triangle pairs.
-  unsigned long long sums[7] = {0, 0, 0, 0, 0, 0, 0};
-  ReadBack(stream).add(&total, f.tally.data() + n).add(sums, f.counters.data(), 7).wait();
+  // the last two only where the screen decides whether it runs).
+  unsigned long long sums[6] = {0, 0, 0, 0, 0, 0};
+  ReadBack(stream).add(&total, f.tally.data() + n).add(sums, f.counters.data(), 6).wait();
   f.screened = screen != nullptr && screen->runs(sums[4], sums[5], step);
-  counts.separated += sums[6];
   counts.vf_before += sums[0];
   counts.ee_before += sums[1];
   counts.vf_after += total.vf + sums[2];

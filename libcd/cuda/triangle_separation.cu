@@ -1,48 +1,57 @@
 // See triangle_separation.cuh.
 #include "libcd/cuda/triangle_separation.cuh"
 
+#include <cub/device/device_select.cuh>
+
 #include "libcd/cuda/cuda_check.cuh"
+#include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
 #include "libcd/narrow_phase/ccd_separating_direction.hpp"
 
 namespace snag {
 namespace {
 
-/// A thread a pair. Two blocks a multiprocessor: 128 registers a thread,
-/// no spills (sm_90); three blocks (80 registers) spill 564 bytes. The 12
-/// corners in doubles take 72 of them.
+/// A thread a pair: left[p] is 0 where the pair is proven apart, else 1.
+/// Two blocks a multiprocessor: 128 registers a thread, no spills (sm_90);
+/// three blocks (80 registers) spill 564 bytes. The 12 corners in doubles
+/// take 72 of them.
 __global__ void __launch_bounds__(detail::kBlockSize, 2)
     separated_kernel(TriangleSeparation separation, const Triangle* __restrict__ triangles,
-                     const TrianglePair* __restrict__ pairs, std::size_t n, std::uint16_t* separated,
-                     unsigned long long* count) {
+                     const TrianglePair* __restrict__ pairs, std::size_t n, std::uint16_t* left) {
   const std::uint64_t p = detail::thread_item();
-  bool apart = false;
-  if (p < n) {
-    const TrianglePair pair = pairs[p];
-    const Triangle ta = triangles[pair.a], tb = triangles[pair.b];
-    Vec3 a_t0[3], a_t1[3], b_t0[3], b_t1[3];
+  if (p >= n) return;
+  const TrianglePair pair = pairs[p];
+  const Triangle ta = triangles[pair.a], tb = triangles[pair.b];
+  Vec3 a_t0[3], a_t1[3], b_t0[3], b_t1[3];
 #pragma unroll
-    for (int i = 0; i < 3; ++i) {
-      a_t0[i] = separation.x_t0[ta[i]];
-      a_t1[i] = separation.x_t1[ta[i]];
-      b_t0[i] = separation.x_t0[tb[i]];
-      b_t1[i] = separation.x_t1[tb[i]];
-    }
-    apart = triangles_separated(a_t0, a_t1, b_t0, b_t1, separation.thickness);
-    separated[p] = apart ? 1 : 0;
+  for (int i = 0; i < 3; ++i) {
+    a_t0[i] = separation.x_t0[ta[i]];
+    a_t1[i] = separation.x_t1[ta[i]];
+    b_t0[i] = separation.x_t0[tb[i]];
+    b_t1[i] = separation.x_t1[tb[i]];
   }
-  detail::warp_count(apart ? 1u : 0u, count);
+  left[p] = triangles_separated(a_t0, a_t1, b_t0, b_t1, separation.thickness) ? 0 : 1;
 }
 
 }  // namespace
 
-void mark_separated_pairs_on_device(const TriangleSeparation& separation, const Triangle* triangles,
-                                    const TrianglePair* pairs, std::size_t n, std::uint16_t* separated,
-                                    unsigned long long* count, cudaStream_t stream) {
-  if (n == 0) return;
-  separated_kernel<<<detail::blocks_for(n), detail::kBlockSize, 0, stream>>>(separation, triangles, pairs, n,
-                                                                            separated, count);
+std::size_t remove_separated_pairs_on_device(const TriangleSeparation& separation, const Triangle* triangles,
+                                             TrianglePair* pairs, std::size_t n, std::uint16_t* flags,
+                                             unsigned long long* selected, DeviceBuffer<unsigned char>& temp,
+                                             cudaStream_t stream) {
+  if (n == 0) return 0;
+  separated_kernel<<<detail::blocks_for(n), detail::kBlockSize, 0, stream>>>(separation, triangles, pairs, n, flags);
   SNAG_CUDA_CHECK_LAUNCH();
+  // CUB's stable selection, in place: the pairs left keep their order.
+  const auto items = static_cast<::cuda::std::int64_t>(n);
+  std::size_t bytes = 0;
+  SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(nullptr, bytes, pairs, flags, selected, items, stream));
+  detail::ensure_scratch(temp, bytes);
+  bytes = temp.size();
+  SNAG_CUDA_CHECK(cub::DeviceSelect::Flagged(temp.data(), bytes, pairs, flags, selected, items, stream));
+  unsigned long long left = 0;
+  ReadBack(stream).add(&left, selected).wait();
+  return static_cast<std::size_t>(left);
 }
 
 }  // namespace snag
