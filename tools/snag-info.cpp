@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
   CLI::App app{"snag-info: summarise an animated mesh cache"};
   CacheArguments cache;
   bool json = false;
-  double lambda = 1.2;
+  double lambda = snag::kDefaultLambda;
   snag::tools::add_cache_options(app, cache);
   app.add_flag("--json", json, "Write JSON to standard output instead of the human summary");
   app.add_option("--lambda", lambda, "Cell-size coefficient of the virtual subdivision scheme (> 1)")

@@ -52,7 +52,7 @@ struct ScanOptions {
   std::string backend = "auto";
   std::string grid = "uniform";  ///< --grid: adaptive subdivides crowded cells (either back end)
   unsigned threads = 0;
-  double lambda = 1.2;
+  double lambda = snag::kDefaultLambda;
   std::size_t device_memory = 0;  ///< --device-memory, bytes (0: what the GPU has free)
   std::string report;
   std::string events = "all";

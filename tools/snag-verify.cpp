@@ -34,7 +34,7 @@ struct VerifyOptions {
   // --scan only
   std::string mode = "all";
   double thickness = 0;
-  double lambda = 1.2;
+  double lambda = snag::kDefaultLambda;
   unsigned threads = 0;
 };
 

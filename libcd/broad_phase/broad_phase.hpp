@@ -11,12 +11,13 @@
 
 #include "libcd/broad_phase/candidates.hpp"
 #include "libcd/geometry/vec3.hpp"
+#include "libcd/grid/cell_size.hpp"
 #include "libcd/scene/scene.hpp"
 
 namespace snag {
 
 struct BroadPhaseSettings {
-  double lambda = 1.2;              ///< cell size = 3·λ·r_avg (> 1)
+  double lambda = kDefaultLambda;   ///< cell size = 3·λ·r_avg (> 1)
   double thickness = 0;             ///< pairs within this distance are kept; scene units, ≥ 0
   int max_subdivision_levels = 16;  ///< safety limit on Loop levels per triangle
   int max_time_halvings = 12;       ///< safety limit on time halvings per triangle (CCD)

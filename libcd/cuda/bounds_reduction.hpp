@@ -37,7 +37,7 @@ struct TriangleBounds {
 /// @param x_t0, x_t1  #V global positions at the start and end of the step (for
 ///                    a single frame, pass the same positions twice); same size.
 /// @param triangles   #F triangles of global vertex ids, each < #V.
-/// @param lambda      λ of the cell size, > 1 (the scheme uses 1.1 to 1.3, default 1.2).
+/// @param lambda      λ of the cell size, > 1 (the chapter uses 1.1 to 1.3; kDefaultLambda).
 /// @param stream      stream to run on (a cudaStream_t); nullptr = the default stream.
 ///                    The call returns when the results are on the host.
 /// Throws CudaError when a CUDA call fails. Mismatched sizes or out-of-range

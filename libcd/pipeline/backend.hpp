@@ -35,7 +35,7 @@ class Certifier {
 };
 
 struct BackendSettings {
-  double lambda = 1.2;     ///< cell size = 3·λ·r_avg
+  double lambda = kDefaultLambda;  ///< cell size = 3·λ·r_avg
   double thickness = 0;    ///< contact distance, scene units
   unsigned threads = 0;    ///< CPU threads, 0 = all cores
   /// CUDA back end: the most device memory its buffers may hold, bytes (0 =

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "libcd/geometry/vec3.hpp"
+#include "libcd/grid/cell_size.hpp"
 #include "libcd/scene/frame_source.hpp"
 
 namespace snag {
@@ -35,7 +36,7 @@ struct CacheStatistics {
   Range sphere_radius;
   /// The virtual subdivision scheme's cell size, 3 × λ × mean radius, per frame.
   Range cell_size;
-  double lambda = 1.2;
+  double lambda = kDefaultLambda;
   /// Triangles that exceed a third of their frame's cell (the most in any
   /// frame), and the most Loop levels any triangle needs.
   std::size_t subdivided_triangles = 0;
@@ -49,6 +50,6 @@ struct CacheStatistics {
 
 /// Reads every frame of `source` once, in order, and gathers the statistics.
 /// `lambda` is the cell-size coefficient (> 1). Throws what read_frame throws.
-CacheStatistics compute_cache_statistics(const FrameSource& source, double lambda = 1.2);
+CacheStatistics compute_cache_statistics(const FrameSource& source, double lambda = kDefaultLambda);
 
 }  // namespace snag
