@@ -91,8 +91,8 @@ struct WaitingFeaturePair {
 /// Counts the feature pairs of triangle pair p < n before and after culling
 /// (tally[p]; tally[n] is zero; the sums of all pairs in counters[0] and [1]
 /// before, vertex-face and edge-edge, and with count_kept in [4] and [5]
-/// after) and records which the culling kept (kept[p];
-/// kept bit: vertex-face 3 s + i, edge-edge 6 + 3 i + j), so that
+/// after) and records which the culling kept (kept[p]; kept bit:
+/// vertex-face 3 s + i, edge-edge 6 + 3 i + j), so that
 /// write_kernel need not test them again:
 /// the CPU's loop body, one pair a thread. The DOPs' float boxes are tested
 /// first: where they are apart the DOPs are (float_box.hpp), and most culled
@@ -104,7 +104,8 @@ struct WaitingFeaturePair {
 /// Four blocks a multiprocessor (64 registers, a few spilled): on cloth_ball
 /// 345 µs, against 377 with the 84 registers it takes unbounded (H200).
 __global__ void __launch_bounds__(detail::kBlockSize, 4)
-    count_kernel(FeatureInputs in, std::size_t n, bool count_kept, FeatureTally* tally, std::uint16_t* kept, unsigned long long* counters) {
+    count_kernel(FeatureInputs in, std::size_t n, bool count_kept, FeatureTally* tally, std::uint16_t* kept,
+                 unsigned long long* counters) {
   __shared__ WaitingFeaturePair warp_waiting[detail::kBlockSize / 32][64];
   __shared__ unsigned warp_kept[detail::kBlockSize / 32][32];
   const unsigned lane = threadIdx.x & 31u;
@@ -414,7 +415,7 @@ void representative_feature_pairs_on_device(
                          pairs};
   f.kept.resize(n);
   f.counters.resize(6);
-  if (separation != nullptr) {  // the separated pairs' flags go to kept first
+  if (separation != nullptr) {  // the separated pairs' flags go to kept, then the pairs left to the front
     const std::size_t left = remove_separated_pairs_on_device(*separation, topology.triangles.data(), pairs, n,
                                                               f.kept.data(), f.counters.data(), f.temp, stream);
     counts.separated += n - left;
