@@ -3,9 +3,10 @@
 // a pair runs triangles_separated, the CPU's test, and the pairs it proves
 // apart are removed before count_kernel (representative_triangles.cuh) makes
 // the pairs' feature pairs, so that the stages after it run over those left
-// (cloth_ball 36% of the unique pairs, ×4 21%, ×16 11%). This file is compiled without
-// fused multiply-adds (libcd/cuda/CMakeLists.txt), so each decision is the
-// CPU back end's and the two back ends' candidates and counts are the same.
+// (cloth_ball 36% of the unique pairs, ×4 21%, ×16 11%). This file is
+// compiled without fused multiply-adds (libcd/cuda/CMakeLists.txt), so each
+// decision is the CPU back end's and the two back ends' candidates and
+// counts are the same.
 #pragma once
 
 #include <cuda_runtime_api.h>
