@@ -56,7 +56,7 @@ struct SceneBenchmark {
   std::string name, description;
   std::size_t steps = 0, vertices = 0, triangles = 0;
   std::size_t positives = 0;        ///< colliding VF + EE pairs, exact, over all steps
-  // The adaptive run (the VSS grid at lambda 1.2, the certified method's tiers).
+  // The adaptive run (the VSS grid at the default lambda, the certified method's tiers).
   std::size_t grid_candidates = 0;
   std::array<std::size_t, kCcdTierCount> tiers{};  ///< candidates decided at each CcdTier
   double adaptive_broad_seconds = 0, adaptive_narrow_seconds = 0;
