@@ -63,24 +63,45 @@
 // Unlike the feature pairs' exits these run before any input is checked, so
 // they check the range themselves: out of it, nothing is decided.
 // They are decided in projection form, which costs 12 dot products a
-// direction instead of 18 differences, each with its own bound: with X the
-// largest |coordinate| of the 12 corners and p^ = fl(s . x) for each corner,
-//  1. |p^ - s . x| <= gamma_3 sum_k |s_k| |x_k| + 3 * 2^-1075
-//     <= gamma_3 |s|_1 X + 3 * 2^-1075 (three products, two sums);
-//  2. the extents lo = min p^, hi = max p^ of each triangle's corners at one
+// direction instead of 18 differences, and in single precision, on the
+// corners' offsets from the pair's first corner: half the registers and
+// twice the arithmetic rate of doubles on a GPU, and an offset's rounding
+// error scales with the pair's own extent, not with where it lies in the
+// scene. With ref = a_t0[0], each corner's offset z = fl64(x - ref) is
+// rounded to a float and all 12 are scaled by 2^-e, the power of two that
+// brings the largest |offset| into [1/2, 1) (pairs whose largest |offset|
+// lies outside [2^-100, 2^120] are not tried, nor a thickness above 2^20
+// times it). Writing y for the scaled floats, w = (x - ref) 2^-e for the
+// exact scaled offsets and u = 2^-24 (float arithmetic, Higham's gamma_n):
+//  1. |y_k - w_k| <= u + 2^-50 for each coordinate: the float's rounding
+//     (u |y_k| <= u), the double's (2^-53 |w_k|), and underflow below 2^-126
+//     (at most 2^-150 before the scaling, which multiplies by at most 2^99);
+//  2. each projection p^ = fl(s . y) of a direction s of floats (any vector:
+//     only the signs below must be certain) lies within
+//     gamma_3 |s|_1 + (u + 2^-50) |s|_1 + 3 * 2^-126 < 2.385e-7 |s|_1
+//     + 3 * 2^-126 of s . w (|y_k| < 1; three products, two sums; an
+//     underflowed or flushed product is off by at most 2^-126);
+//  3. the extents lo = min p^, hi = max p^ of each triangle's corners at one
 //     end are exact, and r^ = fl(lo_B - hi_A) = (lo_B - hi_A)(1 + delta),
 //     |delta| <= u;
-//  3. the bound T = fl(fl(fl(|s|_1) fl(fl(d (1 + 2e-15)) + fl(X 1e-15)))
-//     + 1e-300) is at least (1 - u)^6 |s|_1 (d (1 + 2e-15) + X 1e-15)
-//     + (1 - u) 1e-300, less a few 2^-1075 where its products underflow;
-//  4. so r^ > T implies, for every corner a_i of A and b_j of B,
-//     s . (b_j - a_i) >= lo_B - hi_A - 2 gamma_3 |s|_1 X - 6 * 2^-1075
-//     > T / (1 + u) - 2 gamma_3 |s|_1 X - 6 * 2^-1075 > d |s|_1 >= d |s|_2,
-//     since (1 - u)^7 (1 + 2e-15) > 1 and (1 - u)^7 1e-15 > 2 gamma_3.
+//  4. the bound T = fl(fl(S (D + 5e-7)) + 1e-30), S = fl(|s_x| + |s_y| +
+//     |s_z|) and D the float of fl64(fl64(d 2^-e) (1 + 1e-5)), is at least
+//     (1 - u)^5 |s|_1 (D + 5e-7) + (1 - u) 1e-30 less a few 2^-126, and
+//     (1 - u)^6 D >= (1 + 9e-6) d 2^-e less a few 2^-150;
+//  5. so r^ > T implies, for every corner a_i of A and b_j of B,
+//     s . (w_bj - w_ai) >= lo_B - hi_A - 4.77e-7 |s|_1 - 6 * 2^-126
+//     > T / (1 + u) - 4.77e-7 |s|_1 - 6 * 2^-126 > d 2^-e |s|_1
+//     >= d 2^-e |s|_2, since (1 - u)^6 5e-7 > 4.77e-7 and (1 - u)^2 1e-30
+//     exceeds every 2^-126 and 2^-150 term: the exact offsets, and so the
+//     corners themselves (scaled by 2^e), lie more than d apart along s.
 // fl(lo_A - hi_B) > T gives the reverse order; both ends of the step must give
-// the same one. The bound is looser than the differences' (it grows with X,
-// not with the gap), which only matters for triangles closer than about
-// 1e-15 X beyond the thickness: those are left to the feature pairs.
+// the same one. The scaled offsets are below 1 and each direction's
+// coordinates below 32, so nothing overflows. The bound grows with the
+// pair's extent (5e-7 of it), so triangles closer than that beyond the
+// thickness are left to the feature pairs. With fused multiply-adds (fewer
+// roundings) or flushed subnormals (covered by the 2^-126 terms) the bounds
+// hold too; both back ends compile this without either, so that they decide
+// every pair alike.
 #pragma once
 
 #include <math.h>
@@ -97,9 +118,16 @@ constexpr double kSeparationErrorFactor = 5e-16;
 constexpr double kSeparationUnderflowSlack = 1e-300;
 /// Makes the thickness margin an upper bound of d |s|_2 (step 2).
 constexpr double kSeparationMarginFactor = 1 + 1e-15;
-/// The projection form's factors of d and of X (see "Two whole triangles").
-constexpr double kCornersMarginFactor = 1 + 2e-15;
-constexpr double kCornersErrorFactor = 1e-15;
+/// The projection form's range, margin and slack (see "Two whole triangles"):
+/// the largest |offset| tried, its inverse the smallest, the largest
+/// thickness tried relative to it, the thickness's factor, and the float
+/// terms of the bound T.
+constexpr double kOffsetLimit = 0x1p120;
+constexpr float kOffsetFloor = 0x1p-100f;
+constexpr double kScaledThicknessLimit = 0x1p20;
+constexpr double kCornersMarginFactor = 1 + 1e-5;
+constexpr float kCornersErrorTerm = 5e-7f;
+constexpr float kCornersSlack = 1e-30f;
 
 /// The thickness margin of direction s (see the file comment, step 2).
 SNAG_HD_INLINE double separation_margin(const Vec3& s, double d) {
@@ -133,28 +161,44 @@ SNAG_HD_INLINE bool separates(const Vec3& s, const Vec3* diff, int count, double
   return true;
 }
 
+/// A corner's scaled offset from the pair's first corner, in floats (see
+/// "Two whole triangles").
+struct CornerOffset {
+  float x, y, z;
+};
+
+SNAG_HD_INLINE CornerOffset operator-(const CornerOffset& a, const CornerOffset& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+SNAG_HD_INLINE CornerOffset cross(const CornerOffset& a, const CornerOffset& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+SNAG_HD_INLINE float dot(const CornerOffset& a, const CornerOffset& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+SNAG_HD_INLINE bool operator==(const CornerOffset& a, const CornerOffset& b) {
+  return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
 /// The extent [lo, hi] of the computed projections fl(s . x[i]) of three
-/// corners (see "Two whole triangles", steps 1 and 2).
-SNAG_HD_INLINE void project_corners(const Vec3& s, const Vec3 x[3], double& lo, double& hi) {
-  const double p0 = dot(s, x[0]), p1 = dot(s, x[1]), p2 = dot(s, x[2]);
-  lo = fmin(p0, fmin(p1, p2));
-  hi = fmax(p0, fmax(p1, p2));
+/// corners (see "Two whole triangles", steps 2 and 3).
+SNAG_HD_INLINE void project_corners(const CornerOffset& s, const CornerOffset x[3], float& lo, float& hi) {
+  const float p0 = dot(s, x[0]), p1 = dot(s, x[1]), p2 = dot(s, x[2]);
+  lo = fminf(p0, fminf(p1, p2));
+  hi = fmaxf(p0, fmaxf(p1, p2));
 }
 
 /// +1 when the extent of B lies above that of A by more than `bound`, -1
-/// when below, else 0 (step 4).
-SNAG_HD_INLINE int extents_order(double lo_a, double hi_a, double lo_b, double hi_b, double bound) {
+/// when below, else 0 (step 5).
+SNAG_HD_INLINE int extents_order(float lo_a, float hi_a, float lo_b, float hi_b, float bound) {
   return lo_b - hi_a > bound ? 1 : (lo_a - hi_b > bound ? -1 : 0);
 }
 
 /// The corners of triangles A and B lie strictly more than d apart along s,
-/// in the same order at t0 and at t1, in projection form; `scale` is the
-/// largest |coordinate| of the 12 corners (see "Two whole triangles").
-SNAG_HD_INLINE bool corners_apart(const Vec3& s, const Vec3 a_t0[3], const Vec3 a_t1[3], const Vec3 b_t0[3],
-                                  const Vec3 b_t1[3], double d, double scale) {
-  const double bound = (fabs(s.x) + fabs(s.y) + fabs(s.z)) * (d * kCornersMarginFactor + scale * kCornersErrorFactor) +
-                       kSeparationUnderflowSlack;
-  double lo_a, hi_a, lo_b, hi_b;
+/// in the same order at t0 and at t1, in projection form; `margin` is
+/// fl(D + 5e-7) for the scaled thickness D (see "Two whole triangles").
+SNAG_HD_INLINE bool corners_apart(const CornerOffset& s, const CornerOffset a_t0[3], const CornerOffset a_t1[3],
+                                  const CornerOffset b_t0[3], const CornerOffset b_t1[3], float margin) {
+  const float bound = (fabsf(s.x) + fabsf(s.y) + fabsf(s.z)) * margin + kCornersSlack;
+  float lo_a, hi_a, lo_b, hi_b;
   project_corners(s, a_t0, lo_a, hi_a);
   project_corners(s, b_t0, lo_b, hi_b);
   const int order = extents_order(lo_a, hi_a, lo_b, hi_b, bound);
@@ -226,50 +270,95 @@ SNAG_HD_INLINE bool edge_edge_separated(const Vec3& ea0_t0, const Vec3& ea1_t0, 
 /// whole triangles"); then no feature of A touches a feature of B over the
 /// step. False for inputs out of range (a coordinate not finite or above
 /// ccd_detail::kMaxMagnitude, a thickness outside [0, kMaxMagnitude]), for
-/// triangles that share a corner, and for degenerate ones whose directions
-/// are zero. Never throws.
-SNAG_HD_INLINE bool triangles_separated(const Vec3 a_t0[3], const Vec3 a_t1[3], const Vec3 b_t0[3],
-                                        const Vec3 b_t1[3], double thickness) {
+/// pairs whose largest corner offset lies outside [2^-100, 2^120] or is
+/// below 2^-20 of the thickness, for triangles that share a corner, and for
+/// degenerate ones whose directions are zero. Decided in floats, alike on
+/// the host and the device. Never throws.
+/// triangles_separated with the corners read one at a time: corner(c, i) is
+/// corner i of a_t0, a_t1, b_t0, b_t1 for c = 0 to 3 (on a GPU, a read of
+/// device memory that is rounded to floats at once, so that the 12 corners
+/// are never held in doubles together).
+template <class Corner>
+SNAG_HD_INLINE bool triangles_separated_by(const Corner& corner, double thickness) {
+  using ccd_detail::CornerOffset;
   using ccd_detail::kMaxMagnitude;
+  using ccd_detail::kOffsetLimit;
   if (!(thickness >= 0 && thickness <= kMaxMagnitude)) return false;
-  const Vec3* corners[4] = {a_t0, a_t1, b_t0, b_t1};
-  double scale = 0;  // the largest |coordinate|, once all are known finite
+  const Vec3 ref = corner(0, 0);
+  CornerOffset offset[4][3];  // a_t0, a_t1, b_t0, b_t1
+  float largest = 0;
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
   for (int c = 0; c < 4; ++c) {
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
     for (int i = 0; i < 3; ++i) {
-      const Vec3 m{fabs(corners[c][i].x), fabs(corners[c][i].y), fabs(corners[c][i].z)};
-      if (!(m.x <= kMaxMagnitude && m.y <= kMaxMagnitude && m.z <= kMaxMagnitude)) return false;
-      scale = fmax(scale, fmax(m.x, fmax(m.y, m.z)));
+      const Vec3 x = corner(c, i);
+      if (!(fabs(x.x) <= kMaxMagnitude && fabs(x.y) <= kMaxMagnitude && fabs(x.z) <= kMaxMagnitude)) return false;
+      const Vec3 z = x - ref;
+      if (!(fabs(z.x) <= kOffsetLimit && fabs(z.y) <= kOffsetLimit && fabs(z.z) <= kOffsetLimit)) return false;
+      const CornerOffset y{static_cast<float>(z.x), static_cast<float>(z.y), static_cast<float>(z.z)};
+      offset[c][i] = y;
+      largest = fmaxf(largest, fmaxf(fabsf(y.x), fmaxf(fabsf(y.y), fabsf(y.z))));
     }
   }
+  if (!(largest >= ccd_detail::kOffsetFloor)) return false;
+  int e = 0;
+  (void)frexpf(largest, &e);  // largest = m 2^e, m in [1/2, 1), e in [-99, 121]
+  const double scaled_thickness = thickness * ldexp(1.0, -e);
+  if (!(scaled_thickness <= ccd_detail::kScaledThicknessLimit)) return false;
+  const float margin =
+      static_cast<float>(scaled_thickness * ccd_detail::kCornersMarginFactor) + ccd_detail::kCornersErrorTerm;
+  const float to_unit = ldexpf(1.0f, -e);
+  for (int c = 0; c < 4; ++c) {
+    for (int i = 0; i < 3; ++i) {
+      offset[c][i].x *= to_unit;
+      offset[c][i].y *= to_unit;
+      offset[c][i].z *= to_unit;
+    }
+  }
+  const CornerOffset* const ya_t0 = offset[0];
+  const CornerOffset* const ya_t1 = offset[1];
+  const CornerOffset* const yb_t0 = offset[2];
+  const CornerOffset* const yb_t1 = offset[3];
   // A corner the two triangles share (a vertex of both, in a mesh the
   // commonest reason no direction separates them) is a zero difference,
   // which no direction separates: the answer without trying them.
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      if (a_t0[i] == b_t0[j] && a_t1[i] == b_t1[j]) return false;
+      if (ya_t0[i] == yb_t0[j] && ya_t1[i] == yb_t1[j]) return false;
     }
   }
-  const Vec3 na = cross(a_t0[1] - a_t0[0], a_t0[2] - a_t0[0]);
-  const Vec3 nb = cross(b_t0[1] - b_t0[0], b_t0[2] - b_t0[0]);
+  const CornerOffset na = cross(ya_t0[1] - ya_t0[0], ya_t0[2] - ya_t0[0]);
+  const CornerOffset nb = cross(yb_t0[1] - yb_t0[0], yb_t0[2] - yb_t0[0]);
   // Direction k: 0 and 1 the normals at t0, 2 to 4 the in-plane normals of
   // a's edges and 5 to 7 of b's, 8 and 9 the normals at t1: one loop, so
   // that the test is written (and compiled) once.
   for (int k = 0; k < 10; ++k) {
-    Vec3 s;
+    CornerOffset s;
     if (k < 2) {
       s = k == 0 ? na : nb;
     } else if (k < 8) {
       const bool of_a = k < 5;
-      const Vec3* corner = of_a ? a_t0 : b_t0;
+      const CornerOffset* corner = of_a ? ya_t0 : yb_t0;
       const int i = of_a ? k - 2 : k - 5;
       s = cross(corner[i == 2 ? 0 : i + 1] - corner[i], of_a ? na : nb);
     } else {
-      const Vec3* corner = k == 8 ? a_t1 : b_t1;
+      const CornerOffset* corner = k == 8 ? ya_t1 : yb_t1;
       s = cross(corner[1] - corner[0], corner[2] - corner[0]);
     }
-    if (ccd_detail::corners_apart(s, a_t0, a_t1, b_t0, b_t1, thickness, scale)) return true;
+    if (ccd_detail::corners_apart(s, ya_t0, ya_t1, yb_t0, yb_t1, margin)) return true;
   }
   return false;
+}
+
+/// Corners given as arrays (see the comment above triangles_separated_by).
+SNAG_HD_INLINE bool triangles_separated(const Vec3 a_t0[3], const Vec3 a_t1[3], const Vec3 b_t0[3],
+                                        const Vec3 b_t1[3], double thickness) {
+  const Vec3* corners[4] = {a_t0, a_t1, b_t0, b_t1};
+  return triangles_separated_by([&](int c, int i) { return corners[c][i]; }, thickness);
 }
 
 }  // namespace snag

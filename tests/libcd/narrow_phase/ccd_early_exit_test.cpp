@@ -271,23 +271,50 @@ TEST(TriangleSeparation, FiresOnLayersMovingTogetherAlongTheirNormal) {
   EXPECT_FALSE(apart(a, b, 0.2));  // the layers are within the thickness
 }
 
-TEST(TriangleSeparation, FiresFarFromTheOriginAndNearTheEndOfTheRange) {
-  // The projection form's bound grows with the largest |coordinate| X (about
-  // 1e-15 X |s|_1; the file comment): layers 0.1 apart are still decided a
-  // million units out, and near the range's end when the gap grows with X.
+TEST(TriangleSeparation, FiresFarFromTheOriginAndAcrossItsRange) {
+  // The projection form's bound grows with the pair's own extent (5e-7 of
+  // its largest corner offset, the file comment), not with where it lies:
+  // layers 0.1 apart are decided a billion units out.
   const Vec3 by{3, 0, 0};
-  for (const double far : {1e6, -1e6}) {
+  for (const double far : {1e6, -1e6, 1e9, -1e9}) {
     const Vec3 o{far, far, far};
     const MovingTriangle a = moving(o + Vec3{0, 0, 0}, o + Vec3{1, 0, 0}, o + Vec3{0, 1, 0}, by);
     EXPECT_TRUE(apart(a, moving(o + Vec3{0, 0, 0.1}, o + Vec3{1, 0, 0.1}, o + Vec3{0, 1, 0.1}, by), 0)) << far;
   }
-  const double big = 1e59;
-  const MovingTriangle a = moving({big, big, big}, {2 * big, big, big}, {big, 2 * big, big}, {big, 0, 0});
-  const MovingTriangle b =
-      moving({big, big, 1.1 * big}, {2 * big, big, 1.1 * big}, {big, 2 * big, 1.1 * big}, {big, 0, 0});
-  EXPECT_TRUE(apart(a, b, 0));
-  EXPECT_TRUE(apart(b, a, 0.05 * big));
-  EXPECT_FALSE(apart(a, b, 0.2 * big));
+  // Pairs of any size whose largest offset lies in [2^-100, 2^120], the same
+  // shape scaled, with the thickness scaled alike; outside it, nothing is
+  // decided.
+  for (const double size : {1e-29, 1e-10, 1.0, 1e10, 1e35, 1e-31, 1e37}) {
+    const bool in_range = size >= 1e-29 && size <= 1e35;
+    const Vec3 step{size, 0, 0};
+    const MovingTriangle a = moving({0, 0, 0}, {size, 0, 0}, {0, size, 0}, step);
+    const MovingTriangle b = moving({0, 0, 0.1 * size}, {size, 0, 0.1 * size}, {0, size, 0.1 * size}, step);
+    EXPECT_EQ(apart(a, b, 0), in_range) << size;
+    EXPECT_EQ(apart(b, a, 0.05 * size), in_range) << size;
+    EXPECT_FALSE(apart(a, b, 0.2 * size)) << size;
+  }
+}
+
+TEST(TriangleSeparation, NeverFiresAtOrWithinTheThickness) {
+  // Layers exactly `gap` apart in z (the coordinates' differences exact),
+  // far from the origin where the offsets round: a thickness equal to the
+  // gap is not exceeded, one a thousandth below it is, by far more than
+  // the bound (5e-7 of the pair's extent).
+  const double gap = 1000.15 - 1000.1;  // exact (Sterbenz), about 0.05
+  for (const double far : {0.0, 1000.1, 3e5}) {
+    const double z = far == 0 ? 0 : 1000.1;
+    const Vec3 o{far, -far, 0};
+    const Vec3 by{0.25, -0.5, 0};
+    const MovingTriangle a = moving(o + Vec3{0, 0, z}, o + Vec3{1.3, 0.1, z}, o + Vec3{0.2, 0.9, z}, by);
+    const MovingTriangle b =
+        moving(o + Vec3{0.4, 0.3, z + gap}, o + Vec3{1.1, 0.2, z + gap}, o + Vec3{0.3, 1.2, z + gap}, by);
+    ASSERT_EQ((z + gap) - z, gap);
+    EXPECT_FALSE(apart(a, b, gap)) << far;
+    EXPECT_FALSE(apart(b, a, gap)) << far;
+    EXPECT_FALSE(apart(a, b, 2 * gap)) << far;
+    EXPECT_TRUE(apart(a, b, gap * 0.999)) << far;
+    EXPECT_TRUE(apart(b, a, gap * 0.999)) << far;
+  }
 }
 
 TEST(TriangleSeparation, FiresOnNeighboursInOneSheetAcrossAnEdge) {
