@@ -12,9 +12,12 @@ namespace snag {
 namespace {
 
 /// A thread a pair: left[p] is 0 where the pair is proven apart, else 1.
-/// Three blocks a multiprocessor: 80 registers a thread, no spills (sm_90),
-/// the corners held in floats; four blocks (64 registers) spill 128 bytes.
-__global__ void __launch_bounds__(detail::kBlockSize, 3)
+/// Four blocks a multiprocessor: 64 registers a thread (sm_90), the corners
+/// held in floats, 128 bytes spilled; at three blocks (80 registers, no
+/// spills) the kernel ran longer (H100: cloth_ball 0.209 -> 0.196 ms a step,
+/// ×4 0.987 -> 0.934, ×16 7.27 -> 6.63; in doubles it took 0.318, 1.483
+/// and 10.58 at two blocks).
+__global__ void __launch_bounds__(detail::kBlockSize, 4)
     separated_kernel(TriangleSeparation separation, const Triangle* __restrict__ triangles,
                      const TrianglePair* __restrict__ pairs, std::size_t n, std::uint16_t* left) {
   const std::uint64_t p = detail::thread_item();
