@@ -75,7 +75,8 @@
 // exact scaled offsets and u = 2^-24 (float arithmetic, Higham's gamma_n):
 //  1. |y_k - w_k| <= u + 2^-50 for each coordinate: the float's rounding
 //     (u |y_k| <= u), the double's (2^-53 |w_k|), and underflow below 2^-126
-//     (at most 2^-150 before the scaling, which multiplies by at most 2^99);
+//     (at most 2^-150 before the scaling, which multiplies by at most 2^99,
+//     and 2^-150 where the scaling itself leaves a subnormal);
 //  2. each projection p^ = fl(s . y) of a direction s of floats (any vector:
 //     only the signs below must be certain) lies within
 //     gamma_3 |s|_1 + (u + 2^-50) |s|_1 + 3 * 2^-126 < 2.385e-7 |s|_1
