@@ -65,11 +65,10 @@ bool is_corner(const Triangle& t, Index v) { return t[0] == v || t[1] == v || t[
 bool triangle_pair_separated(const Scene& scene, const TriangleSeparation& separation, Index a, Index b) {
   const Triangle& ta = scene.triangles()[a];
   const Triangle& tb = scene.triangles()[b];
-  const Vec3 a_t0[3] = {separation.x_t0[ta[0]], separation.x_t0[ta[1]], separation.x_t0[ta[2]]};
-  const Vec3 a_t1[3] = {separation.x_t1[ta[0]], separation.x_t1[ta[1]], separation.x_t1[ta[2]]};
-  const Vec3 b_t0[3] = {separation.x_t0[tb[0]], separation.x_t0[tb[1]], separation.x_t0[tb[2]]};
-  const Vec3 b_t1[3] = {separation.x_t1[tb[0]], separation.x_t1[tb[1]], separation.x_t1[tb[2]]};
-  return triangles_separated(a_t0, a_t1, b_t0, b_t1, separation.thickness);
+  const auto corner = [&](int c, int i) {
+    return (c % 2 == 0 ? separation.x_t0 : separation.x_t1)[(c < 2 ? ta : tb)[i]];
+  };
+  return triangles_separated_by(corner, separation.thickness);
 }
 
 }  // namespace

@@ -265,20 +265,10 @@ SNAG_HD_INLINE bool edge_edge_separated(const Vec3& ea0_t0, const Vec3& ea1_t0, 
   return false;
 }
 
-/// True when some fixed direction provably keeps triangle A (corners a_t0[i]
-/// moving linearly to a_t1[i]) strictly more than `thickness` (scene units)
-/// away from triangle B for every t in [0, 1] (see the file comment, "Two
-/// whole triangles"); then no feature of A touches a feature of B over the
-/// step. False for inputs out of range (a coordinate not finite or above
-/// ccd_detail::kMaxMagnitude, a thickness outside [0, kMaxMagnitude]), for
-/// pairs whose largest corner offset lies outside [2^-100, 2^120] or is
-/// below 2^-20 of the thickness, for triangles that share a corner, and for
-/// degenerate ones whose directions are zero. Decided in floats, alike on
-/// the host and the device. Never throws.
-/// triangles_separated with the corners read one at a time: corner(c, i) is
-/// corner i of a_t0, a_t1, b_t0, b_t1 for c = 0 to 3 (on a GPU, a read of
-/// device memory that is rounded to floats at once, so that the 12 corners
-/// are never held in doubles together).
+/// triangles_separated (below) with the corners read one at a time:
+/// corner(c, i) is corner i of a_t0, a_t1, b_t0, b_t1 for c = 0 to 3 (on a
+/// GPU, a read of device memory that is rounded to floats at once, so that
+/// the 12 corners are never held in doubles together).
 template <class Corner>
 SNAG_HD_INLINE bool triangles_separated_by(const Corner& corner, double thickness) {
   using ccd_detail::CornerOffset;
@@ -355,7 +345,16 @@ SNAG_HD_INLINE bool triangles_separated_by(const Corner& corner, double thicknes
   return false;
 }
 
-/// Corners given as arrays (see the comment above triangles_separated_by).
+/// True when some fixed direction provably keeps triangle A (corners a_t0[i]
+/// moving linearly to a_t1[i]) strictly more than `thickness` (scene units)
+/// away from triangle B for every t in [0, 1] (see the file comment, "Two
+/// whole triangles"); then no feature of A touches a feature of B over the
+/// step. False for inputs out of range (a coordinate not finite or above
+/// ccd_detail::kMaxMagnitude, a thickness outside [0, kMaxMagnitude]), for
+/// pairs whose largest corner offset lies outside [2^-100, 2^120] or is
+/// below 2^-20 of the thickness, for triangles that share a corner, and for
+/// degenerate ones whose directions are zero. Decided in floats, alike on
+/// the host and the device. Never throws.
 SNAG_HD_INLINE bool triangles_separated(const Vec3 a_t0[3], const Vec3 a_t1[3], const Vec3 b_t0[3],
                                         const Vec3 b_t1[3], double thickness) {
   const Vec3* corners[4] = {a_t0, a_t1, b_t0, b_t1};
