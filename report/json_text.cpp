@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 
 namespace snag::report {
 
@@ -12,94 +13,74 @@ bool needs_escape(char c) { return c == '"' || c == '\\' || static_cast<unsigned
 
 }  // namespace
 
-// Millions of keys and strings go through here: a short one is put
-// together on the stack and appended in one call rather than a call per
-// piece or per character.
-JsonText& JsonText::key(std::string_view name, bool first) {
-  // keys are the schema's own names: nothing to escape
-  char buffer[64];
-  if (name.size() + 4 > sizeof buffer) {
-    if (!first) text_.push_back(',');
-    text_.push_back('"');
-    text_.append(name);
-    text_.append("\":");
-    return *this;
-  }
-  char* out = buffer;
-  if (!first) *out++ = ',';
-  *out++ = '"';
-  out = std::copy(name.begin(), name.end(), out);
-  *out++ = '"';
-  *out++ = ':';
-  text_.append(buffer, static_cast<std::size_t>(out - buffer));
-  return *this;
+void JsonText::grow(std::size_t n) {
+  // Doubled, so that a text written piece by piece is copied a few times in
+  // all; the bytes past the text are never read.
+  buffer_.resize(std::max(2 * buffer_.size(), size_ + n));
 }
 
 JsonText& JsonText::string(std::string_view s) {
   static const char* const hex = "0123456789abcdef";
-  char buffer[64];
-  if (s.size() + 2 <= sizeof buffer && std::none_of(s.begin(), s.end(), needs_escape)) {
-    char* out = buffer;
-    *out++ = '"';
-    out = std::copy(s.begin(), s.end(), out);
-    *out++ = '"';
-    text_.append(buffer, static_cast<std::size_t>(out - buffer));
-    return *this;
-  }
-  text_.push_back('"');
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    switch (c) {
-      case '"': text_.append("\\\""); break;
-      case '\\': text_.append("\\\\"); break;
-      case '\n': text_.append("\\n"); break;
-      case '\r': text_.append("\\r"); break;
-      case '\t': text_.append("\\t"); break;
-      default:
-        if (u < 0x20) {
-          text_.append("\\u00");
-          text_.push_back(hex[u >> 4]);
-          text_.push_back(hex[u & 15]);
-        } else {
-          text_.push_back(c);
-        }
+  char* const start = room(2 + 6 * s.size());  // each character escaped as \u00XX at the most
+  char* out = start;
+  *out++ = '"';
+  if (std::none_of(s.begin(), s.end(), needs_escape)) {
+    if (!s.empty()) std::memcpy(out, s.data(), s.size());
+    out += s.size();
+  } else {
+    for (const char c : s) {
+      const auto u = static_cast<unsigned char>(c);
+      if (!needs_escape(c)) {
+        *out++ = c;
+        continue;
+      }
+      *out++ = '\\';
+      switch (c) {
+        case '"': *out++ = '"'; break;
+        case '\\': *out++ = '\\'; break;
+        case '\n': *out++ = 'n'; break;
+        case '\r': *out++ = 'r'; break;
+        case '\t': *out++ = 't'; break;
+        default:
+          out = std::copy_n("u00", 3, out);
+          *out++ = hex[u >> 4];
+          *out++ = hex[u & 15];
+      }
     }
   }
-  text_.push_back('"');
+  *out++ = '"';
+  size_ += static_cast<std::size_t>(out - start);
   return *this;
 }
 
+// The room each number takes at the most: the shortest text of a double
+// that reads back to it is at most 24 characters (-2.2250738585072014e-308),
+// a 64-bit count 20 digits and an int a sign and 10 digits.
 JsonText& JsonText::number(double x) {
   if (!std::isfinite(x)) return null();
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
-  text_.append(buffer, static_cast<std::size_t>(result.ptr - buffer));
+  constexpr std::size_t kRoom = 32;
+  char* const out = room(kRoom);
+  size_ += static_cast<std::size_t>(std::to_chars(out, out + kRoom, x).ptr - out);
   return *this;
 }
 
 JsonText& JsonText::number(std::size_t n) {
-  char buffer[24];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, n);
-  text_.append(buffer, static_cast<std::size_t>(result.ptr - buffer));
+  constexpr std::size_t kRoom = 24;
+  char* const out = room(kRoom);
+  size_ += static_cast<std::size_t>(std::to_chars(out, out + kRoom, n).ptr - out);
   return *this;
 }
 
 JsonText& JsonText::number(int n) {
-  char buffer[16];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, n);
-  text_.append(buffer, static_cast<std::size_t>(result.ptr - buffer));
+  constexpr std::size_t kRoom = 16;
+  char* const out = room(kRoom);
+  size_ += static_cast<std::size_t>(std::to_chars(out, out + kRoom, n).ptr - out);
   return *this;
 }
 
 JsonText& JsonText::vec3(const Vec3& p) {
-  text_.push_back('[');
-  number(p.x);
-  text_.push_back(',');
-  number(p.y);
-  text_.push_back(',');
-  number(p.z);
-  text_.push_back(']');
-  return *this;
+  raw("[").number(p.x).raw(",").number(p.y).raw(",").number(p.z);
+  return raw("]");
 }
 
 JsonText& JsonText::optional(std::size_t n, std::size_t none) { return n == none ? null() : number(n); }
