@@ -21,8 +21,8 @@ std::size_t events_to_list(const ReportSettings& settings, std::size_t listed, s
   return std::min(kept, settings.max_events - std::min(settings.max_events, listed));
 }
 
-FrameDigester::FrameDigester(const Scene& scene, const RuleSet& rules)
-    : scene_(scene), rules_(rules), regions_(scene) {}
+FrameDigester::FrameDigester(const Scene& scene, const RuleSet& rules, std::shared_ptr<const FaceAdjacency> faces)
+    : scene_(scene), rules_(rules), regions_(scene, std::move(faces)) {}
 
 void FrameDigester::Tally::add(const Tally& other) {
   collisions += other.collisions;

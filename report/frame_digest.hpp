@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <map>
+#include <memory>
 #include <tuple>
 #include <vector>
 
@@ -54,8 +55,9 @@ std::size_t events_to_list(const ReportSettings& settings, std::size_t listed, s
 /// region builder, so that each frame costs time in its events.
 class FrameDigester {
  public:
-  /// `rules` must outlive the digester.
-  FrameDigester(const Scene& scene, const RuleSet& rules);
+  /// `rules` must outlive the digester. `faces`: the scene's adjacency, when
+  /// several digesters share it (made here when null).
+  FrameDigester(const Scene& scene, const RuleSet& rules, std::shared_ptr<const FaceAdjacency> faces = nullptr);
 
   /// Applies the rules to the frame's events, moving the kept ones down in
   /// place (the scan lets a sink remove events), and builds the regions of

@@ -59,31 +59,36 @@ RegionBuilder::Lane::Lane(const Scene& scene, std::size_t index)
   touched.reserve(scene.triangle_count());  // listing the marked faces then allocates nothing
 }
 
-RegionBuilder::RegionBuilder(const Scene& scene) : scene_(scene) {
+FaceAdjacency::FaceAdjacency(const Scene& scene) {
+  const auto& triangles = scene.triangles();
+  vertex_face_start.assign(scene.vertex_count() + 1, 0);
+  for (const Triangle& t : triangles)
+    for (Index v : t) ++vertex_face_start[v + 1];
+  std::partial_sum(vertex_face_start.begin(), vertex_face_start.end(), vertex_face_start.begin());
+  vertex_faces.resize(vertex_face_start.back());
+  std::vector<Index> fill(vertex_face_start.begin(), vertex_face_start.end() - 1);
+  for (Index f = 0; f < triangles.size(); ++f)
+    for (Index v : triangles[f]) vertex_faces[fill[v]++] = f;
+  // The faces on each edge, in the order of the faces around its first end.
+  const auto& edges = scene.edges();
+  edge_face_start.assign(edges.size() + 1, 0);
+  for (Index e = 0; e < edges.size(); ++e) {
+    const Edge& edge = edges[e];
+    for (Index k = vertex_face_start[edge[0]]; k < vertex_face_start[edge[0] + 1]; ++k) {
+      const Triangle& t = triangles[vertex_faces[k]];
+      if (t[0] == edge[1] || t[1] == edge[1] || t[2] == edge[1]) edge_faces.push_back(vertex_faces[k]);
+    }
+    edge_face_start[e + 1] = static_cast<Index>(edge_faces.size());
+  }
+}
+
+RegionBuilder::RegionBuilder(const Scene& scene, std::shared_ptr<const FaceAdjacency> faces)
+    : scene_(scene), faces_(std::move(faces)) {
   if (scene.triangle_count() + scene.vertex_count() > std::numeric_limits<Index>::max())
     throw std::length_error("a scene's faces and vertices together outnumber the region builder's ids");
   if (scene.objects().size() > std::size_t{0x7fffffff})
     throw std::length_error("a scene's objects outnumber the region builder's group words");
-  const auto& triangles = scene.triangles();
-  vertex_face_start_.assign(scene.vertex_count() + 1, 0);
-  for (const Triangle& t : triangles)
-    for (Index v : t) ++vertex_face_start_[v + 1];
-  std::partial_sum(vertex_face_start_.begin(), vertex_face_start_.end(), vertex_face_start_.begin());
-  vertex_faces_.resize(vertex_face_start_.back());
-  std::vector<Index> fill(vertex_face_start_.begin(), vertex_face_start_.end() - 1);
-  for (Index f = 0; f < triangles.size(); ++f)
-    for (Index v : triangles[f]) vertex_faces_[fill[v]++] = f;
-  // The faces on each edge, in the order of the faces around its first end.
-  const auto& edges = scene.edges();
-  edge_face_start_.assign(edges.size() + 1, 0);
-  for (Index e = 0; e < edges.size(); ++e) {
-    const Edge& edge = edges[e];
-    for (Index k = vertex_face_start_[edge[0]]; k < vertex_face_start_[edge[0] + 1]; ++k) {
-      const Triangle& t = triangles[vertex_faces_[k]];
-      if (t[0] == edge[1] || t[1] == edge[1] || t[2] == edge[1]) edge_faces_.push_back(vertex_faces_[k]);
-    }
-    edge_face_start_[e + 1] = static_cast<Index>(edge_faces_.size());
-  }
+  if (!faces_) faces_ = std::make_shared<const FaceAdjacency>(scene);
 }
 
 namespace {
@@ -133,6 +138,7 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
                                std::size_t object_a, std::size_t object_b) const {
   const auto& triangles = scene_.triangles();
   const auto& edges = scene_.edges();
+  const FaceAdjacency& faces = *faces_;
   lane.face_sets.clear();
   // One pass over the group's events, the only one that reads them: the
   // elements of each event marked (a face, a vertex for the faces around
@@ -160,7 +166,7 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
                           mark(lane.face_marks.get(), e.b);
                           mark(lane.vertex_marks.get(), e.a);
                           first = e.b;
-                          const bool loose = vertex_face_start_[e.a] == vertex_face_start_[e.a + 1];
+                          const bool loose = faces.vertex_face_start[e.a] == faces.vertex_face_start[e.a + 1];
                           second = loose ? e.b : vertex_set(e.a);
                         } else {
                           mark(lane.edge_marks.get(), e.a);
@@ -187,15 +193,15 @@ void RegionBuilder::join_faces(Lane& lane, const std::vector<Event>& events, con
     if (t < vertex_tasks) {
       take_marks(lane.vertex_marks.get(), vertex_words, t * kWordsPerTask,
                  std::min(vertex_words.size(), (t + 1) * kWordsPerTask), [&](Index v) {
-                   for (Index k = vertex_face_start_[v]; k < vertex_face_start_[v + 1]; ++k)
-                     mark(lane.face_marks.get(), vertex_faces_[k]);
+                   for (Index k = faces.vertex_face_start[v]; k < faces.vertex_face_start[v + 1]; ++k)
+                     mark(lane.face_marks.get(), faces.vertex_faces[k]);
                  });
     } else {
       t -= vertex_tasks;
       take_marks(lane.edge_marks.get(), edge_words, t * kWordsPerTask,
                  std::min(edge_words.size(), (t + 1) * kWordsPerTask), [&](Index id) {
-                   for (Index k = edge_face_start_[id]; k < edge_face_start_[id + 1]; ++k)
-                     mark(lane.face_marks.get(), edge_faces_[k]);
+                   for (Index k = faces.edge_face_start[id]; k < faces.edge_face_start[id + 1]; ++k)
+                     mark(lane.face_marks.get(), faces.edge_faces[k]);
                  });
     }
   });

@@ -60,9 +60,21 @@ inline GroupWord group_word(EventKind kind, std::size_t a, std::size_t b) {
 /// exact in any order, on all threads; each face's region found on all
 /// threads and each region's faces listed in face order on one thread. The
 /// result is the same for any number of threads.
+/// The faces around each vertex and on each edge of a scene (the latter in
+/// the order of the faces around the edge's first end), in compressed rows:
+/// what a region builder reads of the mesh, the same for every builder of
+/// the scene.
+struct FaceAdjacency {
+  explicit FaceAdjacency(const Scene& scene);
+  std::vector<Index> vertex_face_start, vertex_faces;
+  std::vector<Index> edge_face_start, edge_faces;
+};
+
 class RegionBuilder {
  public:
-  explicit RegionBuilder(const Scene& scene);
+  /// `faces`: the scene's adjacency, when several builders share it (made
+  /// here when null).
+  explicit RegionBuilder(const Scene& scene, std::shared_ptr<const FaceAdjacency> faces = nullptr);
 
   /// Groups events[i] with in_region[i] set (the checked ones) into regions
   /// of frame `frame`, appended to `regions` in the order of their first
@@ -93,8 +105,7 @@ class RegionBuilder {
                    std::size_t frame, std::vector<std::size_t>& region_of) const;
 
   const Scene& scene_;
-  std::vector<Index> vertex_face_start_, vertex_faces_;  // CSR: faces around each vertex
-  std::vector<Index> edge_face_start_, edge_faces_;      // CSR: faces on each edge
+  std::shared_ptr<const FaceAdjacency> faces_;
   /// The union-find's set of vertex v (after the faces').
   Index vertex_set(Index v) const { return static_cast<Index>(scene_.triangle_count()) + v; }
 

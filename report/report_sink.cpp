@@ -22,6 +22,14 @@ ReportSink::ReportSink(const Scene& scene, const Header& header, const RuleSet& 
       tracks_(scene) {
   trailer_.allow_counts.assign(rules_.rules().allow.size(), 0);
   if (writer_) writer_->write_header(header_);
+  digesters_made_ = joiner_.run([this] {
+    faces_ = std::make_shared<const FaceAdjacency>(scene_);
+    std::vector<std::unique_ptr<FrameDigester>> made;
+    for (std::size_t k = 0; k < kFramesAtOnce; ++k)
+      made.push_back(std::make_unique<FrameDigester>(scene_, rules_, faces_));
+    std::lock_guard<std::mutex> lock(pool_mutex_);
+    for (auto& digester : made) free_digesters_.push_back(std::move(digester));
+  });
 }
 
 PairSummary& ReportSink::pair(EventKind kind, std::size_t a, std::size_t b) {
@@ -95,6 +103,7 @@ void ReportSink::wait_for_join() {
 
 void ReportSink::prepare(ScannedFrame& frame) {
   if (redecide_ && frame.x_next) redecide_(*frame.x, *frame.x_next, *frame.events);
+  digesters_made_.get();  // rethrows what making them threw; faces_ is set after it
   std::unique_ptr<FrameDigester> digester;
   std::unique_ptr<FrameDigest> digest;
   {
@@ -108,7 +117,7 @@ void ReportSink::prepare(ScannedFrame& frame) {
       free_digests_.pop_back();
     }
   }
-  if (!digester) digester = std::make_unique<FrameDigester>(scene_, rules_);
+  if (!digester) digester = std::make_unique<FrameDigester>(scene_, rules_, faces_);  // more frames at once than made
   if (!digest) digest = std::make_unique<FrameDigest>();
   digester->digest(frame, *digest);
   std::lock_guard<std::mutex> lock(pool_mutex_);

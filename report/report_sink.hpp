@@ -7,7 +7,9 @@
 // own, and joined in turn in frame(). A frame that lists no events is joined
 // on a thread of the sink's own while the next ones are digested (the join
 // reads only the digest); one that lists events reads the scan's list and is
-// joined before frame() returns.
+// joined before frame() returns. The digesters (their scene-sized scratch
+// and the scene's adjacency, which they share) are made on that thread as
+// the sink is, while the scan starts, not on its first frames.
 #pragma once
 
 #include <tbb/task_arena.h>
@@ -98,6 +100,8 @@ class ReportSink : public ScanSink {
   std::map<std::size_t, std::unique_ptr<FrameDigest>> prepared_;
   std::unique_ptr<FrameDigest> joined_;  ///< the digest of the frame joined on joiner_, while joining_ is valid
   std::vector<TrackRecord> ended_;
+  std::shared_ptr<const FaceAdjacency> faces_;  ///< the scene's, made with the digesters
+  std::shared_future<void> digesters_made_;     ///< the digesters made on joiner_ (holds what that threw)
   // The join's parallel work (the tracks) runs in an arena of its own, apart
   // from the digest's on the sink's thread.
   tbb::task_arena join_arena_;
