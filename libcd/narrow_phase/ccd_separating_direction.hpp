@@ -179,12 +179,31 @@ SNAG_HD_INLINE bool operator==(const CornerOffset& a, const CornerOffset& b) {
   return a.x == b.x && a.y == b.y && a.z == b.z;
 }
 
+/// The smaller and the larger of two finite floats. On the host a compare
+/// and select, not libm's fminf and fmaxf (calls, for their NaN rule): the
+/// values here are never NaN, and where they are equal zeros of two signs
+/// either one serves, since only differences with them are compared.
+SNAG_HD_INLINE float smaller(float a, float b) {
+#if defined(__CUDA_ARCH__)
+  return fminf(a, b);
+#else
+  return b < a ? b : a;
+#endif
+}
+SNAG_HD_INLINE float larger(float a, float b) {
+#if defined(__CUDA_ARCH__)
+  return fmaxf(a, b);
+#else
+  return b > a ? b : a;
+#endif
+}
+
 /// The extent [lo, hi] of the computed projections fl(s . x[i]) of three
 /// corners (see "Two whole triangles", steps 2 and 3).
 SNAG_HD_INLINE void project_corners(const CornerOffset& s, const CornerOffset x[3], float& lo, float& hi) {
   const float p0 = dot(s, x[0]), p1 = dot(s, x[1]), p2 = dot(s, x[2]);
-  lo = fminf(p0, fminf(p1, p2));
-  hi = fmaxf(p0, fmaxf(p1, p2));
+  lo = smaller(p0, smaller(p1, p2));
+  hi = larger(p0, larger(p1, p2));
 }
 
 /// +1 when the extent of B lies above that of A by more than `bound`, -1
@@ -292,7 +311,7 @@ SNAG_HD_INLINE bool triangles_separated_by(const Corner& corner, double thicknes
       if (!(fabs(z.x) <= kOffsetLimit && fabs(z.y) <= kOffsetLimit && fabs(z.z) <= kOffsetLimit)) return false;
       const CornerOffset y{static_cast<float>(z.x), static_cast<float>(z.y), static_cast<float>(z.z)};
       offset[c][i] = y;
-      largest = fmaxf(largest, fmaxf(fabsf(y.x), fmaxf(fabsf(y.y), fabsf(y.z))));
+      largest = ccd_detail::larger(largest, ccd_detail::larger(fabsf(y.x), ccd_detail::larger(fabsf(y.y), fabsf(y.z))));
     }
   }
   if (!(largest >= ccd_detail::kOffsetFloor)) return false;
