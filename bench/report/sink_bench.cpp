@@ -13,14 +13,22 @@
 // are timed alone; the rest of the sink is the rules, counts, event records
 // and writing.
 //
-//   snag-bench-report-sink T0 T1 [FRAMES] [RUNS] [MAX_EVENTS] [THREADS]
+//   snag-bench-report-sink T0 T1 [FRAMES] [RUNS] [MAX_EVENTS] [THREADS] [STEP_MS]
 //
 // Defaults 12, 3, snag-scan's --max-events default, 100000 (0: every event
-// listed), and every core (THREADS caps the threads of the sink's work).
+// listed), every core (THREADS caps the threads of the sink's work), and 0.
+//
+// With STEP_MS above 0 the frames are handed as a scan whose step takes
+// that long would hand them (a step's time on this thread, then the frame),
+// and the scan's wait for the sink is timed: what a quick back end waits for
+// the report (the first frames, which list the most events, and the
+// digesters' first use among them), as a sum over the run of the waits to
+// hand a frame. The sink's own figures then include the time between frames.
 //
 // Prints one JSON object: events per frame, and per-frame milliseconds
 // (median over runs of each run's mean) of the sink, wall and CPU, and of
-// its regions and tracks, wall and CPU.
+// its regions and tracks, wall and CPU, and the scan's wait in ms (median
+// over runs of each run's sum).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -30,6 +38,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <tbb/global_control.h>
@@ -75,15 +84,17 @@ double median(std::vector<double> v) {
 
 int run(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: %s T0 T1 [FRAMES] [RUNS] [MAX_EVENTS] [THREADS]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s T0 T1 [FRAMES] [RUNS] [MAX_EVENTS] [THREADS] [STEP_MS]\n", argv[0]);
     return 2;
   }
   const std::size_t frames = argc > 3 ? std::stoul(argv[3]) : 12;
   const std::size_t runs = argc > 4 ? std::stoul(argv[4]) : 3;
   const std::size_t max_events = argc > 5 ? std::stoul(argv[5]) : 100000;
   const std::size_t threads = argc > 6 ? std::stoul(argv[6]) : 0;
-  if (frames < 2 || runs < 1 || threads > 4096) {
-    std::fprintf(stderr, "%s: FRAMES must be at least 2, RUNS at least 1 and THREADS at most 4096\n", argv[0]);
+  const double step_ms = argc > 7 ? std::stod(argv[7]) : 0.0;
+  if (frames < 2 || runs < 1 || threads > 4096 || !(step_ms >= 0 && step_ms <= 1e4)) {
+    std::fprintf(stderr, "%s: FRAMES must be at least 2, RUNS at least 1, THREADS at most 4096, STEP_MS in [0, 1e4]\n",
+                 argv[0]);
     return 2;
   }
 
@@ -115,7 +126,7 @@ int run(int argc, char** argv) {
   if (threads > 0)
     thread_cap = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 
-  std::vector<double> wall_ms, cpu_ms, regions_ms, tracks_ms, regions_cpu_ms, tracks_cpu_ms;
+  std::vector<double> wall_ms, cpu_ms, regions_ms, tracks_ms, regions_cpu_ms, tracks_cpu_ms, scan_wait_ms;
   std::size_t events = 0;
   for (std::size_t run = 0; run < runs; ++run) {
     std::ofstream null("/dev/null");
@@ -131,6 +142,7 @@ int run(int argc, char** argv) {
     }
     const auto wall_start = std::chrono::steady_clock::now();
     const double cpu_start = process_cpu_seconds();
+    double scan_wait = 0;
     {
       snag::SinkThread thread(sink, snag::kScanFramesInSink);
       for (std::size_t position = 0; position < frames; ++position) {
@@ -141,7 +153,14 @@ int run(int argc, char** argv) {
         frame.events = &lists[position];
         frame.x = &recorded.frames[position % 2].x;
         frame.x_next = position + 1 < frames ? &recorded.frames[(position + 1) % 2].x : nullptr;
-        thread.hand(frame);
+        if (step_ms > 0) {
+          std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(step_ms));
+          const auto handing = std::chrono::steady_clock::now();
+          thread.hand(frame);
+          scan_wait += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - handing).count();
+        } else {
+          thread.hand(frame);
+        }
       }
       thread.drain();
     }
@@ -151,6 +170,7 @@ int run(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     wall_ms.push_back(1e3 * wall / static_cast<double>(frames));
     cpu_ms.push_back(1e3 * cpu / static_cast<double>(frames));
+    scan_wait_ms.push_back(scan_wait);
 
     snag::report::RegionBuilder regions(scene);
     snag::report::TrackBuilder tracks(scene);
@@ -181,10 +201,11 @@ int run(int argc, char** argv) {
   }
   std::printf("{\"frames\":%zu,\"runs\":%zu,\"max_events\":%zu,\"threads\":%zu,\"events_per_frame\":%.0f,"
               "\"sink_wall_ms_per_frame\":%.2f,\"sink_cpu_ms_per_frame\":%.2f,\"regions_ms_per_frame\":%.2f,"
-              "\"regions_cpu_ms_per_frame\":%.2f,\"tracks_ms_per_frame\":%.2f,\"tracks_cpu_ms_per_frame\":%.2f}\n",
+              "\"regions_cpu_ms_per_frame\":%.2f,\"tracks_ms_per_frame\":%.2f,\"tracks_cpu_ms_per_frame\":%.2f,"
+              "\"step_ms\":%g,\"scan_wait_ms\":%.2f}\n",
               frames, runs, max_events, threads, static_cast<double>(events) / static_cast<double>(frames * runs),
               median(wall_ms), median(cpu_ms), median(regions_ms), median(regions_cpu_ms), median(tracks_ms),
-              median(tracks_cpu_ms));
+              median(tracks_cpu_ms), step_ms, median(scan_wait_ms));
   return 0;
 }
 
@@ -192,7 +213,8 @@ int main(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const std::logic_error&) {  // std::stoul: not a number
-    std::fprintf(stderr, "%s: FRAMES, RUNS, MAX_EVENTS and THREADS must be whole numbers\n", argv[0]);
+    std::fprintf(stderr, "%s: FRAMES, RUNS, MAX_EVENTS and THREADS must be whole numbers, STEP_MS a number\n",
+                 argv[0]);
     return 2;
   } catch (const std::exception& error) {  // a mesh that cannot be read, a count that is not one
     std::fprintf(stderr, "%s: %s\n", argv[0], error.what());
