@@ -5,8 +5,8 @@
 // Millions of event lines go through it, a few dozen pieces each, so that a
 // piece must cost a few instructions: each is written straight into room
 // kept at the text's end (one bound check, a copy of its known size), not
-// appended to a std::string (a call and its checks per piece, which took
-// most of the time of listing events).
+// appended to a std::string (a call and its checks per piece: about half
+// the CPU time of listing cloth_ball's events, in a profile of the sink).
 #pragma once
 
 #include <cstddef>
