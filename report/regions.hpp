@@ -40,6 +40,16 @@ inline GroupWord group_word(EventKind kind, std::size_t a, std::size_t b) {
   return (GroupWord{kind == EventKind::kIntersection} << 63) | (GroupWord{a} << 32) | GroupWord{b};
 }
 
+/// The faces around each vertex and on each edge of a scene (the latter in
+/// the order of the faces around the edge's first end), in compressed rows:
+/// what a region builder reads of the mesh, the same for every builder of
+/// the scene.
+struct FaceAdjacency {
+  explicit FaceAdjacency(const Scene& scene);
+  std::vector<Index> vertex_face_start, vertex_faces;
+  std::vector<Index> edge_face_start, edge_faces;
+};
+
 /// Builds the regions of one frame. Holds scene-sized scratch arrays so that
 /// each frame costs time in the number of its events, not of the scene,
 /// but for reading the marks (a bit per face, vertex and edge) of the two
@@ -60,16 +70,6 @@ inline GroupWord group_word(EventKind kind, std::size_t a, std::size_t b) {
 /// exact in any order, on all threads; each face's region found on all
 /// threads and each region's faces listed in face order on one thread. The
 /// result is the same for any number of threads.
-/// The faces around each vertex and on each edge of a scene (the latter in
-/// the order of the faces around the edge's first end), in compressed rows:
-/// what a region builder reads of the mesh, the same for every builder of
-/// the scene.
-struct FaceAdjacency {
-  explicit FaceAdjacency(const Scene& scene);
-  std::vector<Index> vertex_face_start, vertex_faces;
-  std::vector<Index> edge_face_start, edge_faces;
-};
-
 class RegionBuilder {
  public:
   /// `faces`: the scene's adjacency, when several builders share it (made
