@@ -249,10 +249,10 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
     enumerate_adaptive_pairs_on_device(b.adaptive, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
                                        triangle_count, settings_.count_culled_duplicates, *plan_, b.pairs, stream,
                                        stats_, visit_chunk);
-  else
+  else  // the feature stage's candidates are sorted or not on their own: its pairs need no order
     enumerate_pairs_on_device(b.cells, grid, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
-                              triangle_count, settings_.count_culled_duplicates, *plan_, b.pairs, stream, stats_,
-                              visit_chunk);
+                              triangle_count, settings_.count_culled_duplicates, !with_features, *plan_, b.pairs,
+                              stream, stats_, visit_chunk);
 }
 
 void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,

@@ -145,7 +145,8 @@ class CudaBroadPhase final : public BroadPhase {
     std::size_t key_tenths = 10;
   };
   /// Bounds, subdivision, registration, then the pair tests chunk by chunk,
-  /// each chunk's room shared with the feature stage as `features` says.
+  /// each chunk's room shared with the feature stage as `features` says;
+  /// each chunk's pairs ascend unless they go to the feature stage.
   void triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, FeatureRoom features,
                                 const std::function<void(TrianglePair*, std::size_t)>& visit);
   /// Bytes of the buffers whose size the chunks bound.

@@ -42,10 +42,15 @@ using detail::radix_sort_pairs;
 using detail::thread_item;
 using detail::unpack_key;
 
-/// Counter slots of the test kernel.
+/// Counter slots of the test kernel: kKeptOnce the kept keys of two whole
+/// roots' pairs (written from the front), kKept the others (from the back).
 enum Counter {
-  kBoxesApart, kSameRoot, kTimeSlots, kControlBits, kExtended, kFallback, kPassed, kKept, kCulled, kCounters
+  kBoxesApart, kSameRoot, kTimeSlots, kControlBits, kExtended, kFallback, kPassed, kKeptOnce, kKept, kCulled, kCounters
 };
+
+/// The bit of a waiting or kept key that marks a pair of two whole roots
+/// (set only when keys take at most 63 bits).
+constexpr std::uint64_t kOnceBit = std::uint64_t{1} << 63;
 
 /// Sort keys of the registrations: cell rank above, root triangle below
 /// (pack_key); the values are the leaf ids.
@@ -78,7 +83,9 @@ __global__ void gather_registered_kernel(const Leaf* leaves, const std::uint32_t
   if (r < count) {
     record = registered_leaf(leaves[ids[r]]);
     const CellCoord cell = grid_cell_coord(grid, cell_ids[keys[r] >> root_bits]);
-    member = {record.root, record.slot_depth, record.slot_index, local_cells(record.cells, cell)};
+    const bool whole = record.slot_depth == 0 && leaves[ids[r]].triangle.depth == 0;
+    member = {record.root, static_cast<std::uint16_t>(record.slot_depth), static_cast<std::uint16_t>(whole),
+              record.slot_index, local_cells(record.cells, cell)};
     box = triangle_boxes[record.root];
   }
   stage.write(record, r, count, out);
@@ -221,6 +228,8 @@ struct UniformTileCells {
     return cell_pair_verdict(a.cells, b.cells);
   }
   __device__ bool leaves_overlap(const TileMember&, const TileMember&) const { return true; }
+  /// The leaf is its root whole: two such are tested once, in one cell.
+  __device__ bool whole_root(const TileMember& m) const { return m.whole_root != 0; }
   /// A pass's rows hold only its tests (chunk_tests_kernel): a cell's
   /// members ascend by root, so a row's root is the smaller of each of its
   /// tests' and lies in the pass's range.
@@ -262,6 +271,8 @@ struct AdaptiveTileCells {
   __device__ bool leaves_overlap(const Member& a, const Member& b) const {
     return leaf_boxes_may_overlap(a, b) && dop_overlap(leaf_dops[a.leaf], leaf_dops[b.leaf]);
   }
+  /// Not known here: every kept key is sorted.
+  __device__ bool whole_root(const Member&) const { return false; }
   /// Stuck members' rows meet pushed members of any root.
   static constexpr bool kRowsInRange = false;
   /// False when no test of the tile of cell c has its smaller root in [lo,
@@ -328,15 +339,17 @@ __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigne
 /// test adds one to its smaller root's bucket of the histogram over the range
 /// (in shared memory, added to `histogram` once per block). Counters are summed
 /// in registers and added with one atomic per warp at the end; kept root pairs
-/// are written 32 at a time with one atomic (with count_culled, culled ones
-/// with one atomic per warp and round). Every thread of the block runs every
+/// are written 32 at a time with an atomic for each end of `kept` (with
+/// `once`, the keys of two whole roots' pairs from the front, the others from
+/// the back; without, all from the back), culled ones (count_culled) with one
+/// atomic per warp and round. Every thread of the block runs every
 /// round of a tile, so warp-wide operations see full warps.
 template <class Cells>
 __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
     test_kernel(const std::uint64_t* first_tile, std::size_t cells, const std::uint64_t* row_begin,
                 const std::uint64_t* row_end, Cells source, const Dop18* triangle_dops, const FloatBox* triangle_boxes,
                 std::uint32_t range_first, std::uint32_t range_end, std::uint32_t bucket_width, int key_bits,
-                unsigned* histogram, std::uint64_t* kept, std::uint64_t kept_capacity, bool count_culled,
+                unsigned* histogram, std::uint64_t* kept, std::uint64_t kept_capacity, bool once, bool count_culled,
                 std::uint64_t* culled, std::uint64_t culled_capacity, unsigned long long* counters) {
   using Member = typename Cells::TileMember;
   using Cell = typename Cells::Cell;
@@ -382,17 +395,20 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
   auto record_cull = [&](bool cull, std::uint64_t key) {
     if (count_culled) {
       const unsigned long long slot = detail::warp_append(cull, &counters[kCulled]);
-      if (cull && slot < culled_capacity) culled[slot] = key;
+      if (cull && slot < culled_capacity) culled[slot] = key & ~kOnceBit;
     } else {
       culls += cull ? 1 : 0;
     }
   };
-  // Writes the first n (at most 32) kept keys.
+  // Writes the first n (at most 32) kept keys, those of two whole roots'
+  // pairs from the front of `kept` and the others from its back.
   auto write_kept = [&](unsigned n) {
-    unsigned long long base = 0;
-    if (lane == 0) base = atomicAdd(&counters[kKept], static_cast<unsigned long long>(n));
-    base = __shfl_sync(0xffffffffu, base, 0);
-    if (lane < n && base + lane < kept_capacity) kept[base + lane] = keeping[lane];
+    const std::uint64_t key = lane < n ? keeping[lane] : 0;
+    const bool front = lane < n && (key & kOnceBit) != 0, back = lane < n && !front;
+    const unsigned long long at_front = detail::warp_append(front, &counters[kKeptOnce]);
+    const unsigned long long at_back = detail::warp_append(back, &counters[kKept]);
+    if (front && at_front < kept_capacity) kept[at_front] = key & ~kOnceBit;
+    if (back && at_back < kept_capacity) kept[kept_capacity - 1 - at_back] = key;
     detail::warp_list_drop(keeping, keeping_count, n);
   };
   // Tests the roots' DOPs of the first n (at most 32) waiting keys, a key a lane.
@@ -402,7 +418,7 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
     if (lane < n) {
       key = waiting[lane];
       Index low = 0, high = 0;
-      unpack_key(key, key_bits, low, high);
+      unpack_key(key & ~kOnceBit, key_bits, low, high);
       if (dop_overlap(triangle_dops[low], triangle_dops[high])) {
         keep = true;
         atomicAdd(&block_histogram[(low - range_first) / bucket_width], 1u);
@@ -479,6 +495,7 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
             case CellPairVerdict::kTest: {
               ++passed;
               key = ra < rb ? pack_key(ra, rb, key_bits) : pack_key(rb, ra, key_bits);
+              if (once && source.whole_root(a) && source.whole_root(b)) key |= kOnceBit;
               if (source.leaves_overlap(a, b)) wait = true; else cull = true;
               break;
             }
@@ -731,7 +748,8 @@ namespace {
 /// As enumerate_pairs_on_device otherwise.
 template <class Cells, class NumberRows>
 void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& number_rows, const Dop18* triangle_dops,
-                    const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled, PairChunkPlan& plan,
+                    const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled, bool ascending,
+                    PairChunkPlan& plan,
                     DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats, const PairChunkVisitor& visit) {
   if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
     throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
@@ -805,6 +823,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
   // Root pairs' keys: the smaller root above the larger (pack_key), in 2·key_bits
   // bits (for 92k triangles 34 bits: 5 radix passes of 8 bits).
   const int key_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0), end_bit = 2 * key_bits;
+  const bool once = !ascending && end_bit < 64;  // kOnceBit is free
   std::vector<unsigned> histogram(kHistogramBuckets);
   double seconds = 0;
   std::size_t culled_room =
@@ -844,7 +863,8 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
                              : resident_blocks;
       test_kernel<Cells><<<static_cast<unsigned>(blocks), kTestBlock, 0, stream>>>(
           p.first_tile.data(), cells, p.row_begin.data(), p.row_end.data(), source, triangle_dops, triangle_boxes,
-          range.first, range.end, bucket_width, key_bits, p.histogram.data(), p.kept.data(), kept_room, count_culled,
+          range.first, range.end, bucket_width, key_bits, p.histogram.data(), p.kept.data(), kept_room, once,
+          count_culled,
           p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();
       ReadBack read(stream);
@@ -862,9 +882,10 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
       culled_room = counts[kCulled];
       continue;
     }
-    if (counts[kKept] > kept_room) {
-      if (counts[kKept] <= key_room) {
-        p.kept.resize(counts[kKept]);  // grow within the room and run again
+    const std::size_t kept_tests = counts[kKeptOnce] + counts[kKept];
+    if (kept_tests > kept_room) {
+      if (kept_tests <= key_room) {
+        p.kept.resize(kept_tests);  // grow within the room and run again
       } else {
         todo.pop_front();
         const std::vector<RootRange> parts = split_range(range, histogram, bucket_width, key_room);
@@ -878,21 +899,29 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
     todo.pop_front();
     for (int k = 0; k < kCounters; ++k) totals[k] += counts[k];
 
-    // Sort + unique of the chunk's keys; duplicate root-pair tests counted
-    // exactly, as on the CPU (among the culled tests only when their keys were kept).
-    const std::size_t kept_tests = counts[kKept], culled_tests = count_culled ? counts[kCulled] : 0;
-    p.sorted.resize(std::max(kept_tests, culled_tests));
+    // Sort + unique of the chunk's keys but those kept once (two whole
+    // roots', at the front); duplicate root-pair tests counted exactly, as
+    // on the CPU (among the culled tests only when their keys were kept).
+    const std::size_t kept_once = counts[kKeptOnce], kept_rest = counts[kKept];
+    const std::size_t culled_tests = count_culled ? counts[kCulled] : 0;
+    p.sorted.resize(std::max(kept_rest, culled_tests));
     std::uint64_t* unique = nullptr;
     culled_unique_total += sort_unique(p.culled.data(), p.sorted.data(), culled_tests, end_bit, p, unique, stream);
-    const std::size_t kept_unique =
-        sort_unique(p.kept.data(), p.sorted.data(), kept_tests, end_bit, p, unique, stream);
+    const std::size_t rest_unique =
+        sort_unique(p.kept.data() + kept_room - kept_rest, p.sorted.data(), kept_rest, end_bit, p, unique, stream);
+    const std::size_t kept_unique = kept_once + rest_unique;
     kept_total += kept_tests;
     culled_total += culled_tests;
     unique_total += kept_unique;
     p.pairs.resize(kept_unique);
-    if (kept_unique > 0) {
-      unpack_pairs_kernel<<<blocks_for(kept_unique), detail::kBlockSize, 0, stream>>>(unique, kept_unique, key_bits,
-                                                                                      p.pairs.data());
+    if (kept_once > 0) {
+      unpack_pairs_kernel<<<blocks_for(kept_once), detail::kBlockSize, 0, stream>>>(p.kept.data(), kept_once,
+                                                                                    key_bits, p.pairs.data());
+      SNAG_CUDA_CHECK_LAUNCH();
+    }
+    if (rest_unique > 0) {
+      unpack_pairs_kernel<<<blocks_for(rest_unique), detail::kBlockSize, 0, stream>>>(unique, rest_unique, key_bits,
+                                                                                      p.pairs.data() + kept_once);
       SNAG_CUDA_CHECK_LAUNCH();
     }
     done.record(stream);
@@ -920,7 +949,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
 
 void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
                                const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                               PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
+                               bool ascending, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
                                const PairChunkVisitor& visit) {
   const std::size_t cells = lists.cells;
   const UniformTileCells source{lists.first.data(), lists.cell_ids.data(), p.registered.data(),
@@ -931,8 +960,8 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
         p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
   };
-  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, plan, p,
-                 stream, stats, visit);
+  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, ascending,
+                 plan, p, stream, stats, visit);
 }
 
 void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const Dop18* triangle_dops,
@@ -946,8 +975,8 @@ void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const D
         tree.cells.data(), cells, p.cell_tests.data(), p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
   };
-  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, plan, p,
-                 stream, stats, visit);
+  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, true, plan,
+                 p, stream, stats, visit);
 }
 
 }  // namespace snag
