@@ -117,7 +117,7 @@ void CudaBroadPhase::upload_representatives() {
 }
 
 void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
-                                              FeatureRoom features,
+                                              FeatureRoom features, const TriangleSeparation* separation,
                                               const std::function<void(TrianglePair*, std::size_t)>& visit) {
   const bool with_features = features.bytes_per_candidate > 0;
   const Scene& scene = *scene_;
@@ -245,14 +245,16 @@ void CudaBroadPhase::triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_
     visit(pairs, count);
     DeviceMemoryTracker::set_stage("broad phase: pairs");
   };
+  // The feature stage's candidates are sorted or not on their own: its pairs need no order.
+  const ChunkPairs out{!with_features, separation, b.topology.triangles.data()};
   if (adaptive_)
     enumerate_adaptive_pairs_on_device(b.adaptive, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
-                                       triangle_count, settings_.count_culled_duplicates, *plan_, b.pairs, stream,
-                                       stats_, visit_chunk);
-  else  // the feature stage's candidates are sorted or not on their own: its pairs need no order
+                                       triangle_count, settings_.count_culled_duplicates, out, *plan_, b.pairs,
+                                       stream, stats_, visit_chunk);
+  else
     enumerate_pairs_on_device(b.cells, grid, b.bounds.triangles.data(), b.bounds.triangle_boxes.data(),
-                              triangle_count, settings_.count_culled_duplicates, !with_features, *plan_, b.pairs,
-                              stream, stats_, visit_chunk);
+                              triangle_count, settings_.count_culled_duplicates, out, *plan_, b.pairs, stream,
+                              stats_, visit_chunk);
 }
 
 void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream,
@@ -279,7 +281,8 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
   // without counting (counted in every chunk, ×16 was 1-2% slower, H200).
   FeatureScreen feature_screen{d_x_t0, d_x_t1, screen != nullptr ? *screen : CcdSettings{}, screen_above};
   const TriangleSeparation separation{d_x_t0, d_x_t1, settings_.thickness};
-  triangle_pairs_on_device(d_x_t0, d_x_t1, stream, room, [&](TrianglePair* pairs, std::size_t pair_count) {
+  const TriangleSeparation* const separate = settings_.separate_triangles ? &separation : nullptr;
+  triangle_pairs_on_device(d_x_t0, d_x_t1, stream, room, separate, [&](TrianglePair* pairs, std::size_t pair_count) {
     if (last_chunks_ > 1) feature_screen.only_above = 0;
     DeviceMemoryTracker::set_stage("broad phase: features");
     CudaEvent features_start, features_done;
@@ -298,10 +301,9 @@ void CudaBroadPhase::detect_ccd_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1
           DeviceMemoryTracker::set_stage("broad phase: features");
           features_start.record(stream);
         },
-        sorted, screen != nullptr ? &feature_screen : nullptr, settings_.separate_triangles ? &separation : nullptr);
+        sorted, screen != nullptr ? &feature_screen : nullptr);
   });
   DeviceMemoryTracker::set_stage("other");
-  stats_.separated_triangle_pairs = counts.separated;
   stats_.vf_before_culling = counts.vf_before;
   stats_.vf_after_culling = counts.vf_after;
   stats_.ee_before_culling = counts.ee_before;
@@ -320,7 +322,7 @@ void CudaBroadPhase::detect_static_on_device(const Vec3* d_x, cudaStream_t strea
   const auto start = std::chrono::steady_clock::now();
   double visit_seconds = 0;
   last_parts_ = 0;
-  triangle_pairs_on_device(d_x, d_x, stream, FeatureRoom{}, [&](TrianglePair* pairs, std::size_t pair_count) {
+  triangle_pairs_on_device(d_x, d_x, stream, FeatureRoom{}, nullptr, [&](TrianglePair* pairs, std::size_t pair_count) {
     const auto visit_start = std::chrono::steady_clock::now();
     DeviceCandidates chunk;
     chunk.pairs = pairs;

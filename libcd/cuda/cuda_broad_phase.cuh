@@ -36,6 +36,7 @@
 
 #include "libcd/broad_phase/broad_phase.hpp"
 #include "libcd/cuda/cuda_broad_phase.hpp"
+#include "libcd/culling/representative_triangles.hpp"
 #include "libcd/narrow_phase/ccd_result.hpp"
 
 namespace snag {
@@ -146,8 +147,10 @@ class CudaBroadPhase final : public BroadPhase {
   };
   /// Bounds, subdivision, registration, then the pair tests chunk by chunk,
   /// each chunk's room shared with the feature stage as `features` says;
-  /// each chunk's pairs ascend unless they go to the feature stage.
+  /// each chunk's pairs ascend unless they go to the feature stage; with
+  /// `separation`, those it proves apart are left out (ChunkPairs).
   void triangle_pairs_on_device(const Vec3* d_x_t0, const Vec3* d_x_t1, cudaStream_t stream, FeatureRoom features,
+                                const TriangleSeparation* separation,
                                 const std::function<void(TrianglePair*, std::size_t)>& visit);
   /// Bytes of the buffers whose size the chunks bound.
   std::size_t chunk_bytes() const;

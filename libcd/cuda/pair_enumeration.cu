@@ -26,6 +26,7 @@
 
 #include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
+#include "libcd/cuda/triangle_separation.cuh"
 #include "libcd/grid/control_bits.hpp"
 #include "libcd/grid/pair_index.hpp"
 
@@ -748,13 +749,13 @@ namespace {
 /// As enumerate_pairs_on_device otherwise.
 template <class Cells, class NumberRows>
 void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& number_rows, const Dop18* triangle_dops,
-                    const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled, bool ascending,
-                    PairChunkPlan& plan,
+                    const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
+                    const ChunkPairs& out, PairChunkPlan& plan,
                     DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats, const PairChunkVisitor& visit) {
   if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
     throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
   const auto triangle_end = static_cast<std::uint32_t>(triangle_count);
-  p.counters.resize(kCounters + 1);
+  p.counters.resize(kCounters + 2);  // and the unique keys' count, the pairs written
   p.histogram.resize(kHistogramBuckets);
   p.cell_tests.resize(cells + 1);
   p.test_total.resize(1);
@@ -819,11 +820,11 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
   if (whole_set.known) check_rounds(whole_set);
 
   unsigned long long totals[kCounters] = {};
-  std::size_t kept_total = 0, unique_total = 0, culled_total = 0, culled_unique_total = 0;
+  std::size_t kept_total = 0, unique_total = 0, culled_total = 0, culled_unique_total = 0, separated_total = 0;
   // Root pairs' keys: the smaller root above the larger (pack_key), in 2·key_bits
   // bits (for 92k triangles 34 bits: 5 radix passes of 8 bits).
   const int key_bits = radix_bits(triangle_count > 0 ? triangle_count - 1 : 0), end_bit = 2 * key_bits;
-  const bool once = !ascending && end_bit < 64;  // kOnceBit is free
+  const bool once = !out.ascending && end_bit < 64;  // kOnceBit is free
   std::vector<unsigned> histogram(kHistogramBuckets);
   double seconds = 0;
   std::size_t culled_room =
@@ -914,21 +915,35 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
     culled_total += culled_tests;
     unique_total += kept_unique;
     p.pairs.resize(kept_unique);
-    if (kept_once > 0) {
-      unpack_pairs_kernel<<<blocks_for(kept_once), detail::kBlockSize, 0, stream>>>(p.kept.data(), kept_once,
-                                                                                    key_bits, p.pairs.data());
-      SNAG_CUDA_CHECK_LAUNCH();
-    }
-    if (rest_unique > 0) {
-      unpack_pairs_kernel<<<blocks_for(rest_unique), detail::kBlockSize, 0, stream>>>(unique, rest_unique, key_bits,
-                                                                                      p.pairs.data() + kept_once);
-      SNAG_CUDA_CHECK_LAUNCH();
+    std::size_t pair_count = kept_unique;
+    if (out.separation != nullptr) {  // both runs of keys appended to the pairs, those apart left out
+      unsigned long long* const written = p.counters.data() + kCounters + 1;
+      SNAG_CUDA_CHECK(cudaMemsetAsync(written, 0, sizeof(*written), stream));
+      append_unseparated_pairs_on_device(*out.separation, out.triangles, p.kept.data(), kept_once, key_bits,
+                                         p.pairs.data(), written, stream);
+      append_unseparated_pairs_on_device(*out.separation, out.triangles, unique, rest_unique, key_bits,
+                                         p.pairs.data(), written, stream);
+      unsigned long long left = 0;
+      ReadBack(stream).add(&left, written).wait();
+      pair_count = static_cast<std::size_t>(left);
+      separated_total += kept_unique - pair_count;
+    } else {
+      if (kept_once > 0) {
+        unpack_pairs_kernel<<<blocks_for(kept_once), detail::kBlockSize, 0, stream>>>(p.kept.data(), kept_once,
+                                                                                      key_bits, p.pairs.data());
+        SNAG_CUDA_CHECK_LAUNCH();
+      }
+      if (rest_unique > 0) {
+        unpack_pairs_kernel<<<blocks_for(rest_unique), detail::kBlockSize, 0, stream>>>(
+            unique, rest_unique, key_bits, p.pairs.data() + kept_once);
+        SNAG_CUDA_CHECK_LAUNCH();
+      }
     }
     done.record(stream);
     SNAG_CUDA_CHECK(cudaStreamSynchronize(stream));
     seconds += static_cast<double>(CudaEvent::elapsed_ms(start, done)) / 1000.0;
     plan.ranges.push_back(range);
-    visit(p.pairs.data(), kept_unique);
+    visit(p.pairs.data(), pair_count);
   }
   stats.tests = whole_set.tests;
   stats.culled_by_boxes = totals[kBoxesApart];
@@ -942,6 +957,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
   stats.duplicate_root_pair_tests = kept_total - unique_total;
   stats.duplicate_culled_tests = culled_total - culled_unique_total;
   stats.triangle_pairs = unique_total;
+  stats.separated_triangle_pairs = separated_total;
   stats.seconds_pairs = seconds;
 }
 
@@ -949,7 +965,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
 
 void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
                                const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                               bool ascending, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
+                               const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
                                const PairChunkVisitor& visit) {
   const std::size_t cells = lists.cells;
   const UniformTileCells source{lists.first.data(), lists.cell_ids.data(), p.registered.data(),
@@ -960,14 +976,14 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
         p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
   };
-  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, ascending,
-                 plan, p, stream, stats, visit);
+  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, out, plan,
+                 p, stream, stats, visit);
 }
 
 void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const Dop18* triangle_dops,
                                         const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                                        PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
-                                        BroadPhaseStats& stats, const PairChunkVisitor& visit) {
+                                        const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& p,
+                                        cudaStream_t stream, BroadPhaseStats& stats, const PairChunkVisitor& visit) {
   const std::size_t cells = tree.cell_count;
   const AdaptiveTileCells source{tree.cells.data(), tree.members.data(), tree.leaf_dops.data(), tree.depth};
   auto number_rows = [&](RootRange) {
@@ -975,8 +991,8 @@ void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const D
         tree.cells.data(), cells, p.cell_tests.data(), p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
   };
-  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, true, plan,
-                 p, stream, stats, visit);
+  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled,
+                 ChunkPairs{true, out.separation, out.triangles}, plan, p, stream, stats, visit);
 }
 
 }  // namespace snag

@@ -24,6 +24,7 @@
 #include "libcd/broad_phase/broad_phase.hpp"
 #include "libcd/cuda/adaptive_cells.cuh"
 #include "libcd/cuda/cell_registration.cuh"
+#include "libcd/culling/representative_triangles.hpp"
 #include "libcd/grid/control_bits.hpp"
 
 namespace snag {
@@ -106,9 +107,22 @@ struct PairChunkPlan {
 };
 
 /// Receives a chunk's unique triangle pairs (a device array, valid until it
-/// returns, which it may overwrite: the feature stage removes the separated
-/// pairs in place) and their count.
+/// returns, which it may overwrite) and their count.
 using PairChunkVisitor = std::function<void(TrianglePair*, std::size_t)>;
+
+/// What a chunk's unique pairs are made into before `visit` gets them.
+struct ChunkPairs {
+  /// Each chunk's pairs ascending (unless `separation` is set); else the pairs of two whole roots
+  /// (UniformTileMember::whole_root), each kept once, come as the tests kept
+  /// them and only the others are sorted to be made unique (cloth_ball ×16,
+  /// CCD and static: device time a step 59.3 -> 54.9 ms, H100).
+  bool ascending = true;
+  /// When set (with `triangles`, #F device triangles), the pairs it proves
+  /// apart over its step are left out (in any order; triangle_separation.cuh)
+  /// and counted in stats.separated_triangle_pairs.
+  const TriangleSeparation* separation = nullptr;
+  const Triangle* triangles = nullptr;
+};
 
 /// Copies the registered leaves into pairs.registered, cell by cell and each
 /// cell's by root triangle (stable; roots below triangle_count), with each
@@ -125,15 +139,12 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
 /// Runs every test of the registered cells (pairs.registered and the rest,
 /// from order_registrations_on_device with the same grid and boxes) and
 /// hands the unique triangle pairs to `visit` chunk by chunk (see PairChunkPlan), the chunks in ascending
-/// order, and each chunk's pairs ascending when `ascending` is set; the device array passed to
-/// visit is valid until it returns. Unordered, a chunk's pairs of two whole
-/// roots (UniformTileMember::whole_root), each kept once, come as the tests
-/// kept them and only the others are sorted to be made unique (cloth_ball
-/// ×16, CCD and static: device time a step 59.3 -> 54.9 ms, H100). Fills stats' test counters,
+/// order, each chunk's made as `out` says; the device array passed to
+/// visit is valid until it returns. Fills stats' test counters,
 /// culled_by_dop, duplicate_root_pair_tests, duplicate_culled_tests (when
 /// count_culled: the culled tests' keys are then kept, see
 /// BroadPhaseSettings; their room is not bounded by the plan) and
-/// triangle_pairs, and the seconds of the tests and sorts in
+/// triangle_pairs (and separated_triangle_pairs), and the seconds of the tests and sorts in
 /// stats.seconds_pairs (CUDA events, visit's time left out). Waits for the
 /// stream. Throws CudaError, UsageError.
 /// @param triangle_dops  #F device root swept DOPs; triangle_count = #F
@@ -141,7 +152,7 @@ void order_registrations_on_device(const Leaf* leaves, std::size_t triangle_coun
 ///                       boxes are apart is culled without reading its DOPs
 void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
                                const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                               bool ascending, PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream,
+                               const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& pairs, cudaStream_t stream,
                                BroadPhaseStats& stats, const PairChunkVisitor& visit);
 
 /// As enumerate_pairs_on_device for the adaptive grid's test cells (from
@@ -149,10 +160,10 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
 /// member that it owns, kept when the leaves' DOPs and the roots' DOPs
 /// overlap (the CPU's adaptive grid, broad_phase/virtual_subdivision_grid.cpp).
 /// A pass over a root range runs every tile and skips the tests of other ranges.
-/// Each chunk's pairs are sorted, and ascend.
+/// All its kept keys are sorted (out.ascending is not needed).
 void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const Dop18* triangle_dops,
                                         const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                                        PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
+                                        const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
                                         BroadPhaseStats& stats,
                                         const PairChunkVisitor& visit);
 

@@ -18,7 +18,6 @@
 
 #include "libcd/cuda/device_scan.cuh"
 #include "libcd/cuda/launch.cuh"
-#include "libcd/cuda/triangle_separation.cuh"
 #include "libcd/narrow_phase/edge_edge_ccd.hpp"
 #include "libcd/narrow_phase/vertex_face_ccd.hpp"
 
@@ -394,10 +393,10 @@ const std::uint64_t* sort_keys(std::uint64_t* keys, std::uint64_t* spare, std::s
 
 void representative_feature_pairs_on_device(
     const DeviceTopology& topology, const DevicePrimitiveBounds& bounds, std::size_t vertex_count,
-    std::size_t edge_count, TrianglePair* pairs, std::size_t& n, std::size_t candidate_room, DeviceFeatures& f,
+    std::size_t edge_count, const TrianglePair* pairs, std::size_t n, std::size_t candidate_room, DeviceFeatures& f,
     cudaStream_t stream, FeatureCounts& counts,
     const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit,
-    bool sorted, const FeatureScreen* screen, const TriangleSeparation* separation) {
+    bool sorted, const FeatureScreen* screen) {
   if (n == 0) return;
   if (candidate_room <= kMostCandidatesPerPair)
     throw UsageError("the device memory limit is too small for this scene: the feature stage has room for " +
@@ -415,13 +414,6 @@ void representative_feature_pairs_on_device(
                          pairs};
   f.kept.resize(n);
   f.counters.resize(6);
-  if (separation != nullptr) {  // the separated pairs' flags go to kept, then the pairs left to the front
-    const std::size_t left = remove_separated_pairs_on_device(*separation, topology.triangles.data(), pairs, n,
-                                                              f.kept.data(), f.counters.data(), f.temp, stream);
-    counts.separated += n - left;
-    n = left;
-    if (n == 0) return;
-  }
   f.tally.resize(n + 1);
   f.counters.fill_zero();
   const bool decide_screen = screen != nullptr && screen->only_above > 0;

@@ -116,20 +116,18 @@ struct FeatureScreen {
 /// Adds the counts to `counts` (as the CPU's). With `screen`, only the
 /// candidates its early exits leave undecided (or out of range) are handed
 /// on, and features.screened says so where the screen ran (screen.only_above);
-/// `counts` is as without it. With `separation` (device positions), the
-/// triangle pairs it proves apart are left out first, as the CPU's
-/// representative_feature_pairs leaves them out (triangle_separation.cuh):
-/// they are removed from `pairs` (in place, the rest in their order) and
-/// pair_count is set to those left, before `visit` is called.
+/// `counts` is as without it. The triangle pairs the CPU's
+/// representative_feature_pairs leaves out as separated are left out
+/// before, where the pair tests' keys become pairs (triangle_separation.cuh).
 /// @param bounds  the step's swept DOPs of triangles, edges and vertices and
 ///                their float boxes (a feature pair whose boxes are apart is
 ///                culled without reading its DOPs)
 /// Waits for the stream. Throws CudaError, UsageError (a room under kMostCandidatesPerPair + 1).
 void representative_feature_pairs_on_device(
     const DeviceTopology& topology, const DevicePrimitiveBounds& bounds, std::size_t vertex_count,
-    std::size_t edge_count, TrianglePair* pairs, std::size_t& pair_count, std::size_t candidate_room,
+    std::size_t edge_count, const TrianglePair* pairs, std::size_t pair_count, std::size_t candidate_room,
     DeviceFeatures& features, cudaStream_t stream, FeatureCounts& counts,
     const std::function<void(const VertexFaceCandidate*, std::size_t, const EdgeEdgeCandidate*, std::size_t)>& visit,
-    bool sorted = true, const FeatureScreen* screen = nullptr, const TriangleSeparation* separation = nullptr);
+    bool sorted = true, const FeatureScreen* screen = nullptr);
 
 }  // namespace snag
