@@ -13,8 +13,6 @@
 // chunk's pass runs exactly its own tests; all chunks together run each test once.
 #include "libcd/cuda/pair_enumeration.cuh"
 
-#include <cuda_pipeline_primitives.h>
-
 #include <cub/device/device_reduce.cuh>
 #include <cub/device/device_scan.cuh>
 #include <cub/device/device_select.cuh>
@@ -172,37 +170,23 @@ constexpr unsigned kTestBlock = 128;
 constexpr unsigned kRowLoopTests = 2048;
 
 /// The test kernel's resident blocks a multiprocessor: its launch bound, 56
-/// registers a thread. (×4, H200: 2.43 ms at the 64 it takes unbounded, 47%
-/// of the warps active, 2.36 ms at 56, 52%.) Since the next tile is found
-/// ahead, 28 bytes a thread spill (40 with the adaptive cells), as many at 8
-/// blocks and 64 registers, which were no faster (test_kernel a step, H100:
-/// ×16 18.3 against 18.1 ms, ×4 2.44 against 2.42.)
+/// registers a thread, none spilled. (×4, H200: 2.43 ms at the 64 it takes
+/// unbounded, 47% of the warps active, 2.36 ms at 56, 52%.)
 constexpr int kTestBlocksPerSm = 9;
 
 /// A large tile's meetings dealt out at a time (2 kB of shared memory; in a
 /// model of the cells, cloth_ball's tiles hold about 270 meetings, ×4's 190).
 constexpr unsigned kBlockMeetings = 1024;
 
-/// Starts copying from[0, count) (device memory) into `to` (shared memory),
-/// word by word, each thread of the block a word (a warp reads 128
-/// contiguous bytes at a time, whatever the record's size), as asynchronous
-/// copies: a thread's words are all in flight at once, not read and stored
-/// one after the other. wait_block_copies() waits for the calling thread's.
+/// from[0, count) into `to`, word by word, each thread of the block a word
+/// (a warp reads 128 contiguous bytes at a time, whatever the record's size).
 template <class T>
 __device__ void block_copy_words(const T* from, unsigned count, T* to) {
   static_assert(sizeof(T) % sizeof(std::uint32_t) == 0 && alignof(T) % 4 == 0, "records are copied word by word");
   constexpr unsigned kWords = sizeof(T) / sizeof(std::uint32_t);
   const auto* in = reinterpret_cast<const std::uint32_t*>(from);
   auto* out = reinterpret_cast<std::uint32_t*>(to);
-  for (unsigned w = threadIdx.x; w < count * kWords; w += blockDim.x)
-    __pipeline_memcpy_async(out + w, in + w, sizeof(std::uint32_t));
-}
-
-/// Waits for the calling thread's block_copy_words (a barrier after it
-/// makes every thread's visible to the block).
-__device__ void wait_block_copies() {
-  __pipeline_commit();
-  __pipeline_wait_prior(0);
+  for (unsigned w = threadIdx.x; w < count * kWords; w += blockDim.x) out[w] = in[w];
 }
 
 SNAG_HD_INLINE bool slots_nested(const UniformTileMember& a, const UniformTileMember& b) {
@@ -319,8 +303,8 @@ struct TileSide {
 };
 
 /// Loads the cell's members [begin, begin + count) and their roots' boxes
-/// into `side` (every thread of the block takes part; the caller waits for
-/// the copies, wait_block_copies, and synchronizes after).
+/// into `side` (every thread of the block takes part; the caller
+/// synchronizes after).
 template <class Cells>
 __device__ void load_tile_side(const Cells& source, std::uint64_t begin, unsigned count,
                                const typename Cells::Cell& cell, const FloatBox* triangle_boxes,
@@ -375,44 +359,19 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
   __shared__ unsigned block_histogram[kHistogramBuckets];
   // Raw storage: shared variables take no initializers, and the records have them.
   __shared__ alignas(alignof(Side)) unsigned char side_storage[2 * sizeof(Side)];
-  // A tile as thread 0 finds it, in two slots: the block's tile and the
-  // next one, which thread 0 finds while the block loads and tests this one.
-  __shared__ alignas(alignof(Cell)) unsigned char cell_storage[2][sizeof(Cell)];
-  __shared__ std::uint64_t tile_cell[2], tile_rows[2][2], tile_columns[2][2];  // [begin, end) of each
-  __shared__ bool tile_skipped[2], rows_held[2];
+  __shared__ alignas(alignof(Cell)) unsigned char cell_storage[sizeof(Cell)];
+  __shared__ std::uint64_t tile_cell, tile_rows[2], tile_columns[2];  // [begin, end) of each
   // The members the rows hold, [begin, end) in the source: a run's tiles
   // share their row tile but at its end, and read it once.
   __shared__ std::uint64_t held_rows[2];
+  __shared__ bool tile_skipped, rows_held;
   Side& rows = *reinterpret_cast<Side*>(side_storage);
   Side& columns = *reinterpret_cast<Side*>(side_storage + sizeof(Side));
+  Cell& tile_cell_info = *reinterpret_cast<Cell*>(cell_storage);
   for (unsigned k = threadIdx.x; k < kHistogramBuckets; k += blockDim.x) block_histogram[k] = 0;
-  // Finds tile t into `slot` (thread 0; tiles ascend from one call to the next).
-  auto find_tile = [&](std::uint64_t t, unsigned slot) {
-    const std::uint64_t c = cell_of_work_item_from(first_tile, cells, tile_cell[slot ^ 1u], t);
-    tile_cell[slot] = c;
-    *reinterpret_cast<Cell*>(cell_storage[slot]) = source.cell(c);
-    const PairTile tile = pair_tile(source.size(c), row_begin[c], row_end[c], t - first_tile[c]);
-    tile_rows[slot][0] = tile.row_begin;
-    tile_rows[slot][1] = tile.row_end;
-    tile_columns[slot][0] = tile.column_begin;
-    tile_columns[slot][1] = tile.column_end;
-    const bool skipped = !source.tile_may_hold(c, tile, range_first, range_end);
-    tile_skipped[slot] = skipped;
-    const std::uint64_t rows_first = source.begin(c) + tile.row_begin, rows_end = source.begin(c) + tile.row_end;
-    rows_held[slot] = held_rows[0] == rows_first && held_rows[1] == rows_end;
-    if (!skipped) {
-      held_rows[0] = rows_first;
-      held_rows[1] = rows_end;
-    }
-  };
-  // A block takes runs of kTileRun tiles, gridDim.x runs apart.
-  auto next_tile = [](std::uint64_t t) {
-    return (t + 1) % kTileRun == 0 ? t + 1 + (gridDim.x - 1) * kTileRun : t + 1;
-  };
   if (threadIdx.x == 0) {
-    tile_cell[1] = 0;
+    tile_cell = 0;
     held_rows[0] = held_rows[1] = ~std::uint64_t{0};
-    if (blockIdx.x * kTileRun < tiles) find_tile(blockIdx.x * kTileRun, 0);
   }
   unsigned boxes_apart = 0, same_root = 0, time_slots = 0, control_bits = 0, extended = 0, fallback = 0, passed = 0,
            culls = 0;
@@ -473,35 +432,38 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
     if (keeping_count >= 32) write_kept(32);
     record_cull(cull, key);
   };
-  // One barrier a tile opens it: the last tile's shared data has been read
-  // by all, and thread 0 found this one during the last, while the copies
-  // of its members were in flight. (Before, the block waited at a second
-  // barrier for thread 0's search, 9% of the warps' stall samples on ×4,
-  // ncu, then for the copies, read and stored a word at a time, 11%.
-  // test_kernel a step, H100: ×16 19.8 -> 18.1 ms; ×4 2.37 -> 2.42 and
-  // cloth_ball 0.59 -> 0.64, where the tiles are fewer a cell.)
-  unsigned slot = 0;
-  for (std::uint64_t t = blockIdx.x * kTileRun; t < tiles; t = next_tile(t), slot ^= 1u) {
+  for (std::uint64_t t = blockIdx.x * kTileRun; t < tiles;
+       t = (t + 1) % kTileRun == 0 ? t + 1 + (gridDim.x - 1) * kTileRun : t + 1) {
+    __syncthreads();  // the last tile's shared data is read by all
+    if (threadIdx.x == 0) {
+      const std::uint64_t c = cell_of_work_item_from(first_tile, cells, tile_cell, t);
+      tile_cell = c;
+      tile_cell_info = source.cell(c);
+      const PairTile tile = pair_tile(source.size(c), row_begin[c], row_end[c], t - first_tile[c]);
+      tile_rows[0] = tile.row_begin;
+      tile_rows[1] = tile.row_end;
+      tile_columns[0] = tile.column_begin;
+      tile_columns[1] = tile.column_end;
+      tile_skipped = !source.tile_may_hold(c, tile, range_first, range_end);
+      const std::uint64_t rows_first = source.begin(c) + tile.row_begin, rows_end = source.begin(c) + tile.row_end;
+      rows_held = held_rows[0] == rows_first && held_rows[1] == rows_end;
+      if (!tile_skipped) {
+        held_rows[0] = rows_first;
+        held_rows[1] = rows_end;
+      }
+    }
     __syncthreads();
-    const bool skipped = tile_skipped[slot];  // no test of this pass's range (the whole block skips)
-    const std::uint64_t cell_first = source.begin(tile_cell[slot]);
-    const auto row_count = static_cast<unsigned>(tile_rows[slot][1] - tile_rows[slot][0]);
-    const auto column_count = static_cast<unsigned>(tile_columns[slot][1] - tile_columns[slot][0]);
+    if (tile_skipped) continue;  // no test of this pass's range (the whole block skips)
+    const std::uint64_t cell_first = source.begin(tile_cell);
+    const auto row_count = static_cast<unsigned>(tile_rows[1] - tile_rows[0]);
+    const auto column_count = static_cast<unsigned>(tile_columns[1] - tile_columns[0]);
     // Test (row, column) of the tile is the pair i < j of the cell where
     // j - i = offset + column - row (the offset is negative in a diagonal
     // tile whose first rows the chunk leaves out).
-    const auto offset =
-        static_cast<std::int64_t>(tile_columns[slot][0]) - static_cast<std::int64_t>(tile_rows[slot][0]);
-    const Cell cell = *reinterpret_cast<const Cell*>(cell_storage[slot]);
-    if (!skipped) {
-      if (!rows_held[slot])
-        load_tile_side(source, cell_first + tile_rows[slot][0], row_count, cell, triangle_boxes, rows);
-      load_tile_side(source, cell_first + tile_columns[slot][0], column_count, cell, triangle_boxes, columns);
-    }
-    // The next tile is found while the copies are in flight.
-    if (threadIdx.x == 0 && next_tile(t) < tiles) find_tile(next_tile(t), slot ^ 1u);
-    if (skipped) continue;
-    wait_block_copies();
+    const auto offset = static_cast<std::int64_t>(tile_columns[0]) - static_cast<std::int64_t>(tile_rows[0]);
+    const Cell cell = tile_cell_info;
+    if (!rows_held) load_tile_side(source, cell_first + tile_rows[0], row_count, cell, triangle_boxes, rows);
+    load_tile_side(source, cell_first + tile_columns[0], column_count, cell, triangle_boxes, columns);
     __syncthreads();
     // The rules of the tests whose roots' boxes meet, 32 waiting tests at a
     // time, a test a lane (a round's tests leave a few lanes whose boxes
@@ -521,9 +483,7 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
         } else if (!slots_nested(a, b)) {
           ++time_slots;
         } else {
-          const std::uint64_t index_a = cell_first + tile_rows[slot][0] + row;
-          const std::uint64_t index_b = cell_first + tile_columns[slot][0] + column;
-          switch (source.verdict(a, b, index_a, index_b, cell)) {
+          switch (source.verdict(a, b, cell_first + tile_rows[0] + row, cell_first + tile_columns[0] + column, cell)) {
             case CellPairVerdict::kSkipControlBits:
               ++control_bits;
               break;
@@ -1029,8 +989,8 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
 
 void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
                                const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                               const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
-                               BroadPhaseStats& stats, const PairChunkVisitor& visit) {
+                               const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
+                               const PairChunkVisitor& visit) {
   const std::size_t cells = lists.cells;
   const UniformTileCells source{lists.first.data(), lists.cell_ids.data(), p.registered.data(),
                                 p.tile_members.data(), p.tile_boxes.data(), grid};
