@@ -989,8 +989,8 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
 
 void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& grid, const Dop18* triangle_dops,
                                const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                               const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats,
-                               const PairChunkVisitor& visit) {
+                               const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
+                               BroadPhaseStats& stats, const PairChunkVisitor& visit) {
   const std::size_t cells = lists.cells;
   const UniformTileCells source{lists.first.data(), lists.cell_ids.data(), p.registered.data(),
                                 p.tile_members.data(), p.tile_boxes.data(), grid};
