@@ -592,9 +592,9 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
       unsigned through = mine;  // the meetings of the warp's lanes up to this one
       for (unsigned step = 1; step < 32; step *= 2) {
         const unsigned below = __shfl_up_sync(0xffffffffu, through, step);
-        if ((threadIdx.x & 31u) >= step) through += below;
+        if (lane >= step) through += below;
       }
-      if ((threadIdx.x & 31u) == 31u) warp_meetings[threadIdx.x / 32] = through;
+      if (lane == 31u) warp_meetings[threadIdx.x / 32] = through;
       __syncthreads();
       unsigned total = 0, at = through - mine;  // at: this lane's first meeting's number
       for (unsigned w = 0; w < kTestBlock / 32; ++w) {
@@ -1015,8 +1015,8 @@ void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const D
         tree.cells.data(), cells, p.cell_tests.data(), p.cell_tiles.data(), p.row_begin.data(), p.row_end.data());
     SNAG_CUDA_CHECK_LAUNCH();
   };
-  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled,
-                 ChunkPairs{true, out.separation, out.triangles}, plan, p, stream, stats, visit);
+  run_pair_tests(source, cells, number_rows, triangle_dops, triangle_boxes, triangle_count, count_culled, out, plan,
+                 p, stream, stats, visit);
 }
 
 }  // namespace snag

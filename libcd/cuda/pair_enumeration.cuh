@@ -160,7 +160,7 @@ void enumerate_pairs_on_device(const DeviceCellLists& lists, const GridSpec& gri
 /// member that it owns, kept when the leaves' DOPs and the roots' DOPs
 /// overlap (the CPU's adaptive grid, broad_phase/virtual_subdivision_grid.cpp).
 /// A pass over a root range runs every tile and skips the tests of other ranges.
-/// All its kept keys are sorted (out.ascending is not needed).
+/// All its kept keys are sorted (its members never mark a whole root, whatever out.ascending says).
 void enumerate_adaptive_pairs_on_device(const DeviceAdaptiveCells& tree, const Dop18* triangle_dops,
                                         const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
                                         const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
