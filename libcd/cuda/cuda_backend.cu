@@ -105,7 +105,11 @@ constexpr std::size_t kDefaultMarginBytes = std::size_t{2} << 30;
 /// a large scene then needs a few GB rather than what is free. Each chunk
 /// tests its cells' tiles again (cloth_ball ×16, H200, all kernels a step:
 /// 86.9 ms in 8 chunks of 1 GB, 84.4 in 4 of 2 GB, 83.4 in 2 of 4 GB, the
-/// device's peak 4,879, 5,647 and 7,087 MiB).
+/// device's peak 4,879, 5,647 and 7,087 MiB). Later, at 3 GB, ×16 (CCD and
+/// static) took two CCD chunks instead of three and 51.6 ms of device time a
+/// step against 52.2 to 52.5 (H100, two runs), its peak 7,215 MiB against
+/// 6,831; through snag-scan it was faster in 3 of 5 runs with the CCD alone
+/// and in 2 of 5 with the static detection.
 constexpr std::size_t kChunkRoomCap = std::size_t{2} << 30;
 /// The narrow phase's share of a detection's budget, at most this much.
 constexpr std::size_t kNarrowRoomCap = std::size_t{512} << 20;

@@ -434,6 +434,11 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
   };
   for (std::uint64_t t = blockIdx.x * kTileRun; t < tiles;
        t = (t + 1) % kTileRun == 0 ? t + 1 + (gridDim.x - 1) * kTileRun : t + 1) {
+    // Thread 0 finds the tile between two barriers. Found during the last
+    // tile instead, while the members were copied asynchronously (cp.async),
+    // with one barrier a tile, test_kernel took 18.1 ms a step on ×16
+    // against 19.8 (H100), but racecheck reported hazards on the adaptive
+    // cells (cloth_ball, CCD) and none on this form: not kept.
     __syncthreads();  // the last tile's shared data is read by all
     if (threadIdx.x == 0) {
       const std::uint64_t c = cell_of_work_item_from(first_tile, cells, tile_cell, t);
@@ -542,7 +547,8 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
       // few instructions here, against the rounds' stepping, ballot and list
       // append per test below. (test_kernel, H200: cloth_ball ×4 2.98 ->
       // 2.26 ms, 2.03e9 -> 1.24e9 instructions; cloth_ball 551 -> 480 µs.)
-      static_assert(kTestBlock == 2 * kPairTileSide && kPairTileSide == 64, "a tile's rows by two halves of 32 columns");
+      static_assert(kTestBlock == 2 * kPairTileSide && kPairTileSide == 64,
+                    "a tile's rows by two halves of 32 columns");
       const unsigned row = threadIdx.x % kPairTileSide, half = threadIdx.x / kPairTileSide;
       const unsigned warp_row = row & ~31u;  // the warp's first row
       // Row r's tests are the columns q > r + d in a diagonal tile (offset =
@@ -562,7 +568,13 @@ __global__ void __launch_bounds__(kTestBlock, kTestBlocksPerSm)
         // tests whose boxes are apart counted from the bits. (The loop took
         // 19 instructions a column when each lane branched to its own tests
         // and counted each, ncu on ×4; test_kernel a step, H100: ×16 21.3
-        // -> 19.8 ms, ×4 2.53 -> 2.37, cloth_ball 0.61 -> 0.59.)
+        // -> 19.8 ms, ×4 2.53 -> 2.37, cloth_ball 0.61 -> 0.59.) The loop
+        // is a small part of the kernel: a box around each group of 8, 16
+        // or 32 of the warp's columns, the groups no row's box meets passed
+        // over, was no faster (test_kernel a step, H100, 12 frames, two
+        // runs each: ×16 18.2 and 19.5 ms, with groups of 8 20.7 and 20.6,
+        // of 16 18.7 and 19.7, of 32 19.4 and 19.0; cloth_ball 0.56 and
+        // 0.55, with groups 0.60 to 0.63).
         const unsigned first = ::max(column_begin, diagonal ? after + warp_row : 0u);
         std::uint32_t in_range = 0, bit = first < column_end ? 1u << (first - column_begin) : 0u;
 #pragma unroll 2  // unrolled by 4 or more, the kernel spills at its 56 registers

@@ -17,7 +17,12 @@ namespace {
 /// -> 0.934, ×16 7.27 -> 6.63; in doubles it took 0.318, 1.483 and 10.58 at
 /// two blocks). Written where the keys are unpacked, the test saves the
 /// pairs' own pass, its flags and their selection (device time a step,
-/// H100: ×16 54.8 -> 53.8 ms, ×4 9.80 -> 9.61).
+/// H100: ×16 54.8 -> 53.8 ms, ×4 9.80 -> 9.61). Run earlier, in the pair
+/// tests (test_kernel), on the pairs of two whole roots before their keys
+/// were kept, it left ×16 one chunk instead of three but took test_kernel
+/// from 19 to 54 ms a step (H100; the same counts and events), against
+/// the 7.4 ms of this kernel (there it spills at the pair tests' 56
+/// registers, inlined or not).
 __global__ void __launch_bounds__(detail::kBlockSize, 4)
     unseparated_kernel(TriangleSeparation separation, const Triangle* __restrict__ triangles,
                        const std::uint64_t* __restrict__ keys, std::size_t n, int key_bits, TrianglePair* out,
