@@ -2,7 +2,8 @@
 """Where a step's device time goes: reads a CSV that libsnag_cupti_trace.so
 wrote (bench/gpu/cupti_trace.cpp) and prints, per step, the time the device
 was busy (any kernel, copy or memset running, on any stream) and idle, the
-gaps between device work, and the kernels' and copies' totals.
+gaps between device work, each stream's busy and idle time with the work
+its gaps follow, and the kernels' and copies' totals.
 
 A step is the time from one launch of a marker kernel to the next (default:
 the edge-edge CCD early-exit kernel, launched once per step and chunk); with
@@ -109,6 +110,8 @@ def main():
     parser.add_argument("--kernels", type=int, default=15, help="kernels listed")
     parser.add_argument("--gap-context", type=int, default=5,
                         help="longest gaps listed with the work before and after them")
+    parser.add_argument("--stream-waits", type=int, default=3,
+                        help="for each stream, the works after which its gaps are longest, listed")
     args = parser.parse_args()
 
     rows = []
@@ -154,13 +157,25 @@ def main():
     for length, before, after in sorted(gap_list, key=lambda g: -g[0])[:args.gap_context]:
         print(f"    {length * 1e-6:.3f} ms between {before or 'the window start'} and {after or 'the window end'}")
 
+    # Each stream's busy time, and its idle time in gaps of --gap or more,
+    # by the work each gap follows: a stream that waits after the same work
+    # every step waits for the host there (a read back, a synchronization).
     in_window = [r for r in rows if lo <= r[1] < hi]
     streams = defaultdict(list)
     for r in in_window:
-        streams[r[3]].append((r[1], r[2]))
+        streams[r[3]].append((r[1], r[2], label(r)))
     for stream, intervals in sorted(streams.items(), key=lambda item: -len(item[1])):
-        stream_busy, _ = union_length(intervals, lo, hi)
-        print(f"  stream {stream}: {len(intervals) / steps:.1f} activities per step, busy {stream_busy * ms:.3f} ms")
+        stream_busy, stream_gaps = union_length(intervals, lo, hi)
+        waits = [g for g in stream_gaps if g[0] >= args.gap * 1e3]
+        print(f"  stream {stream}: {len(intervals) / steps:.1f} activities per step, busy {stream_busy * ms:.3f} ms, "
+              f"idle {(hi - lo - stream_busy) * ms:.3f} ms; {len(waits) / steps:.1f} gaps of {args.gap:g} us or more "
+              f"per step, {sum(g[0] for g in waits) * ms:.3f} ms")
+        after = defaultdict(lambda: [0, 0])
+        for length, before, _ in waits:
+            after[before or "the window start"][0] += length
+            after[before or "the window start"][1] += 1
+        for name, (length, count) in sorted(after.items(), key=lambda item: -item[1][0])[:args.stream_waits]:
+            print(f"    after {name}: {count / steps:.1f} per step, {length * ms:.3f} ms")
 
     totals = defaultdict(lambda: [0, 0])
     for r in in_window:

@@ -58,11 +58,33 @@ TEST(TraceSummary, BusyIdleGapsKernelsAndCopiesPerStep) {
   for (const char* line :
        {"stream 7: 2.0 activities per step, busy 0.300 ms", "stream 9: 1.0 activities per step, busy 0.400 ms"})
     EXPECT_NE(run.out.find(line), std::string::npos) << line << "\n" << run.out;
+  // Each stream's idle time and the work its gaps follow: on stream 7, 400
+  // us after the marker and 300 after the copy (the last one up to the
+  // window's end); on stream 9, 600 us after the pair kernel but at the
+  // window's end (400) and 200 before its first launch.
+  for (const char* line : {"busy 0.300 ms, idle 0.700 ms; 2.0 gaps of 5 us or more per step, 0.700 ms",
+                           "after [memcpy DtoH]: 1.0 per step, 0.300 ms", "busy 0.400 ms, idle 0.600 ms;",
+                           ": 1.0 per step, 0.550 ms", "after the window start: 0.2 per step, 0.050 ms"})
+    EXPECT_NE(run.out.find(line), std::string::npos) << line << "\n" << run.out;
+  const std::size_t stream7 = run.out.find("stream 7:");
+  EXPECT_LT(run.out.find(": 1.0 per step, 0.400 ms", stream7), run.out.find("after [memcpy DtoH]", stream7))
+      << run.out;  // the longest first
   // The pair kernel first (400 us a step), under its readable name when
   // c++filt is there, else its mangled one.
   const std::size_t pairs = run.out.find("0.400        1.0  ");
   ASSERT_NE(pairs, std::string::npos) << run.out;
   EXPECT_LT(pairs, run.out.find("0.100        1.0  ")) << run.out;
+}
+
+// --stream-waits 1: each stream's longest wait alone (stream 7's after the
+// marker, 400 us a step, not the copy's 300).
+TEST(TraceSummary, StreamWaitsListsTheLongestFirst) {
+  TemporaryDirectory dir;
+  const ProcessResult run = summarize(timeline(9), dir, {"--stream-waits", "1"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find(": 1.0 per step, 0.400 ms"), std::string::npos) << run.out;
+  EXPECT_EQ(run.out.find("after [memcpy DtoH]"), std::string::npos) << run.out;
+  EXPECT_EQ(run.out.find("after the window start"), std::string::npos) << run.out;
 }
 
 // A step that runs in three chunks launches the marker three times (at 0,
