@@ -786,8 +786,8 @@ namespace {
 template <class Cells, class NumberRows>
 void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& number_rows, const Dop18* triangle_dops,
                     const FloatBox* triangle_boxes, std::size_t triangle_count, bool count_culled,
-                    const ChunkPairs& out, PairChunkPlan& plan,
-                    DevicePairs& p, cudaStream_t stream, BroadPhaseStats& stats, const PairChunkVisitor& visit) {
+                    const ChunkPairs& out, PairChunkPlan& plan, DevicePairs& p, cudaStream_t stream,
+                    BroadPhaseStats& stats, const PairChunkVisitor& visit) {
   if (triangle_count > 0xffffffffull || cells > 0xffffffffull)
     throw UsageError("broad phase: more than 2^32 - 1 triangles or cells");
   const auto triangle_end = static_cast<std::uint32_t>(triangle_count);
@@ -901,8 +901,7 @@ void run_pair_tests(const Cells& source, std::size_t cells, const NumberRows& nu
       test_kernel<Cells><<<static_cast<unsigned>(blocks), kTestBlock, 0, stream>>>(
           p.first_tile.data(), cells, p.row_begin.data(), p.row_end.data(), source, triangle_dops, triangle_boxes,
           range.first, range.end, bucket_width, key_bits, p.histogram.data(), p.kept.data(), kept_room, once,
-          count_culled,
-          p.culled.data(), culled_room, p.counters.data());
+          count_culled, p.culled.data(), culled_room, p.counters.data());
       SNAG_CUDA_CHECK_LAUNCH();
       ReadBack read(stream);
       read.add(counts, p.counters.data(), kCounters).add(histogram.data(), p.histogram.data(), kHistogramBuckets);

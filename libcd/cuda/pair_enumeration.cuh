@@ -112,7 +112,8 @@ using PairChunkVisitor = std::function<void(TrianglePair*, std::size_t)>;
 
 /// What a chunk's unique pairs are made into before `visit` gets them.
 struct ChunkPairs {
-  /// Each chunk's pairs ascending (unless `separation` is set); else the pairs of two whole roots
+  /// True: each chunk's pairs ascend (unless `separation` is set, which
+  /// writes them in any order). False: the pairs of two whole roots
   /// (UniformTileMember::whole_root), each kept once, come as the tests kept
   /// them and only the others are sorted to be made unique (cloth_ball ×16,
   /// CCD and static: device time a step 59.3 -> 54.9 ms, H100).
