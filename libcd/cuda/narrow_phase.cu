@@ -58,13 +58,17 @@ constexpr int kRefineBlocksPerSm = 8;
 // The quick kernel's resident blocks per multiprocessor (its launch bound:
 // 255 registers a thread, about 0.2 kB of spills); its lanes take queries
 // until none is left. Three blocks (168 registers, 1.2 kB of spills) took
-// 15% longer on cloth_ball (H200), four 5% longer still.
+// 15% longer on cloth_ball (H200), four 5% longer still. On the refined
+// cloths too (H100, CUPTI, -m all, the edge-edge launches' ms a step): ×16
+// 8.36 at two blocks, 12.0 at three (128 registers at four: 16.5), ×4 1.44,
+// 2.04 and 2.82.
 constexpr int kQuickBlocksPerSm = 2;
 
 constexpr unsigned kFullWarp = 0xffffffffu;
 // The quick kernel's lanes whose searches ended take new queries together,
 // once this many of a warp's lanes are idle: a query's start (its points,
 // the decisions by structure, the cubic) then runs on many lanes at once.
+// 8 and 24 took as long as 16 (cloth_ball, H100: 0.49 ms a step each).
 constexpr int kRefillLanes = 16;
 
 // The flag of a decided screen result.
