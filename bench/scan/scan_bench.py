@@ -62,8 +62,11 @@ report the same events, bit for bit, with every grid of --grids.
 
 Times are of one machine and one call: compare figures of the same call;
 each figure is the median of --runs runs. Hosts differ, and one host drifts
-from minute to minute: to compare two builds, give the other one as
---baseline. Their runs then alternate (one of each in turn, every scene, mode
+from minute to minute (the same build on three H100 hosts: cloth_ball_x4
+with static detection 9.8, 12.3 and 16.6 ms a step, most of the difference
+in the host's stages: reading, the report): the first line names the
+machine (processor, logical cores, GPU). To compare two builds, give the
+other one as --baseline. Their runs then alternate (one of each in turn, every scene, mode
 and grid), both get a row, and a line gives the new median over the
 baseline's and in how many runs, paired in turn, the new one was faster.
 
@@ -91,6 +94,23 @@ from report_bench import trailer  # noqa: E402  (the report's last record)
 BACKEND_STAGES = ["ccd_broad", "ccd_narrow", "certification", "static_broad", "static_narrow"]
 STAGES = ["read"] + BACKEND_STAGES + ["report_wait"]
 FUNNEL_FROM = 33  # cloth_funnel's first frame: by then the cloth is jammed in the neck
+
+
+def machine():
+    """The host's processor and logical cores, and the GPUs nvidia-smi lists (None without it)."""
+    processor = "unknown processor"
+    try:
+        with open("/proc/cpuinfo") as info:
+            processor = next((line.split(":", 1)[1].strip() for line in info if line.startswith("model name")),
+                             processor)
+    except OSError:
+        pass
+    gpus = None
+    if shutil.which("nvidia-smi") is not None:
+        out = subprocess.run(["nvidia-smi", "--query-gpu=name", "--format=csv,noheader"], capture_output=True,
+                             text=True)
+        gpus = [line.strip() for line in out.stdout.splitlines() if line.strip()] if out.returncode == 0 else None
+    return {"processor": processor, "cores": os.cpu_count(), "gpus": gpus}
 
 
 class DeviceMemorySampler:
@@ -395,8 +415,11 @@ def main():
     work = args.work or tempfile.mkdtemp(prefix="snag-scan-bench-")
     os.makedirs(work, exist_ok=True)
     scenes = make_scenes(args, work)
-    results = {"backend": args.backend, "frames": args.frames, "runs": args.runs, "rows": [], "comparisons": [],
-               "checks": []}
+    host = machine()
+    results = {"backend": args.backend, "frames": args.frames, "runs": args.runs, "machine": host, "rows": [],
+               "comparisons": [], "checks": []}
+    print(f"== machine: {host['processor']}, {host['cores']} logical cores; "
+          f"GPU: {', '.join(host['gpus']) if host['gpus'] else 'none listed'}")
 
     print(f"== per step through snag-scan --backend {args.backend}, ms (median of {args.runs}; "
           f"(total of {args.frames} frames - total of {args.short_frames}) / {args.frames - args.short_frames})")
