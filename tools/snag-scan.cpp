@@ -102,7 +102,9 @@ constexpr unsigned kThreadsBesideTheWorkers = 6;
 // the detection workers from their cores: the next step's detection then
 // started up to 2 ms late (cloth_ball, CCD + static, 42 frames, 16 cores, 6
 // interleaved runs: a median of 7.2 ms a step with a cap of 13, 6.6 with 10,
-// and 7.6 with 8).
+// and 7.6 with 8). Measured again with CCD + static, 5 interleaved runs on
+// 16 cores (H100), caps 10, 13 and 16: cloth_ball 3.59, 4.10 and 4.39 ms a
+// step, ×4 9.89, 10.38 and 10.92, ×16 52.9, 53.1 and 53.2.
 unsigned host_threads(unsigned requested, bool cuda) {
   if (requested > 0) return requested;
   const auto cores = static_cast<unsigned>(std::max(1, tbb::info::default_concurrency()));
