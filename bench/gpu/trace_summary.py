@@ -172,8 +172,9 @@ def main():
               f"per step, {sum(g[0] for g in waits) * ms:.3f} ms")
         after = defaultdict(lambda: [0, 0])
         for length, before, _ in waits:
-            after[before or "the window start"][0] += length
-            after[before or "the window start"][1] += 1
+            entry = after[before or "the window start"]
+            entry[0] += length
+            entry[1] += 1
         for name, (length, count) in sorted(after.items(), key=lambda item: -item[1][0])[:args.stream_waits]:
             print(f"    after {name}: {count / steps:.1f} per step, {length * ms:.3f} ms")
 

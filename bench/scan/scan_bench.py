@@ -66,9 +66,10 @@ from minute to minute (the same build on three H100 hosts: cloth_ball_x4
 with static detection 9.8, 12.3 and 16.6 ms a step, most of the difference
 in the host's stages: reading, the report): the first line names the
 machine (processor, logical cores, GPU). To compare two builds, give the
-other one as --baseline. Their runs then alternate (one of each in turn, every scene, mode
-and grid), both get a row, and a line gives the new median over the
-baseline's and in how many runs, paired in turn, the new one was faster.
+other one as --baseline. Their runs then alternate (one of each in turn,
+every scene, mode and grid), both get a row, and a line gives the new
+median over the baseline's and in how many runs, paired in turn, the new
+one was faster.
 
     scan_bench.py [--build DIR | --scan EXE [--bench-gpu EXE]] [--baseline EXE] [--backend cuda|cpu]
                   [--scenes a,b,...] [--frames N] [--runs N] [--modes ccd,all] [--grids uniform,adaptive]
