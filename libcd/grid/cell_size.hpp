@@ -26,6 +26,10 @@ namespace snag {
 /// cloth_ball 3.17 -> 3.03 ms, ×4 10.46 -> 9.89, ×16 66.6 -> 62.3; 2.0 gave
 /// 2.97, 10.39, 67.9; 3.0 gave 3.08, 11.61, 83.8): the tests of larger cells
 /// cost less than the subdivision and registrations of smaller ones save.
+/// Measured again on the faster kernels (CUPTI, -m all, 11 steps, H100), 1.5
+/// still took the least on ×16 and ×4: λ 1.5, 1.65, 1.75, 1.9, 2.0, 2.25 gave
+/// ×16 52.5, 52.7, 53.3, 54.3, 55.9, 59.6 ms; ×4 9.48, 9.49, 9.55, 9.91, 9.73,
+/// 9.90; cloth_ball 3.69, 3.35, 3.44, 3.53, 3.37, 3.56 (within its noise).
 constexpr double kDefaultLambda = 1.5;
 
 /// 3·λ·mean(radii), the mean from the exact order-independent sum of
